@@ -1,0 +1,13 @@
+"""roughgp: rough surfaces as Gaussian processes.
+
+An executable companion to Jawaid & Seewig, "Model of rough surfaces with Gaussian
+processes" (Surf. Topogr.: Metrol. Prop.). Equation numbers in docstrings are the paper's.
+
+Modules, bottom up: :mod:`roughgp.acvf` (ACVFs and PSDs as plain functions),
+:mod:`roughgp.kernels` (the same as GPyTorch kernels), :mod:`roughgp.fourier` (the
+Wiener-Khinchin transforms of eq 5 on a grid), :mod:`roughgp.spectral` (periodogram,
+Welch, empirical ACVF), :mod:`roughgp.sampling` (draws of eq 10), :mod:`roughgp.plotting`
+(the book's figure style).
+"""
+
+__version__ = "0.1.0"

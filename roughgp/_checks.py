@@ -1,0 +1,57 @@
+"""Input checks shared by the library: each raises a ``ValueError`` that names the
+parameter and the allowed range, so bad input never turns into a silent NaN."""
+
+from __future__ import annotations
+
+import numpy as np
+import torch
+
+
+def _as_numpy(value) -> np.ndarray:
+    if isinstance(value, torch.Tensor):
+        return value.detach().cpu().numpy()
+    return np.asarray(value)
+
+
+def check_finite(name: str, value) -> None:
+    """Raise if any element of ``value`` is NaN or infinite."""
+    arr = _as_numpy(value)
+    if not np.issubdtype(arr.dtype, np.number):
+        raise ValueError(f"{name} must be numeric, got dtype {arr.dtype}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} must be finite (no NaN or inf), got {arr.tolist()!r}"
+                         if arr.size <= 8 else f"{name} must be finite (no NaN or inf)")
+
+
+def check_positive(name: str, value) -> None:
+    """Raise unless every element of ``value`` is finite and > 0."""
+    check_finite(name, value)
+    arr = _as_numpy(value)
+    if np.any(arr <= 0):
+        raise ValueError(f"{name} must be > 0 (allowed range: (0, inf)), got {arr.tolist()!r}")
+
+
+def check_nonnegative(name: str, value) -> None:
+    """Raise unless every element of ``value`` is finite and >= 0."""
+    check_finite(name, value)
+    arr = _as_numpy(value)
+    if np.any(arr < 0):
+        raise ValueError(f"{name} must be >= 0 (allowed range: [0, inf)), got {arr.tolist()!r}")
+
+
+def check_shape(name: str, value, shape: tuple) -> None:
+    """Raise unless ``value`` has exactly ``shape`` (``None`` in ``shape`` matches any size)."""
+    got = tuple(_as_numpy(value).shape)
+    ok = len(got) == len(shape) and all(s is None or s == g for s, g in zip(shape, got))
+    if not ok:
+        want = "(" + ", ".join("any" if s is None else str(s) for s in shape) + ")"
+        raise ValueError(f"{name} must have shape {want}, got {got}")
+
+
+def check_lags(name: str, lags, dim: int) -> None:
+    """Raise unless ``lags`` is finite with a last axis of length ``dim``."""
+    arr = _as_numpy(lags)
+    if arr.ndim == 0 or arr.shape[-1] != dim:
+        raise ValueError(f"{name} must have shape (..., {dim}) (last axis: the {dim} lag "
+                         f"components), got {tuple(arr.shape)}")
+    check_finite(name, arr)
