@@ -44,7 +44,8 @@ def check_shape(name: str, value, shape: tuple) -> None:
     got = tuple(_as_numpy(value).shape)
     ok = len(got) == len(shape) and all(s is None or s == g for s, g in zip(shape, got))
     if not ok:
-        want = "(" + ", ".join("any" if s is None else str(s) for s in shape) + ")"
+        parts = ["any" if s is None else str(s) for s in shape]
+        want = "(" + ", ".join(parts) + ("," if len(parts) == 1 else "") + ")"
         raise ValueError(f"{name} must have shape {want}, got {got}")
 
 

@@ -164,16 +164,18 @@ def rotated_exponential_psd(freqs, variance, lengthscales, angle):
 
 
 def _check_mixture(lags, weights, means, variances, name="lags"):
-    means_arr = means.detach() if isinstance(means, torch.Tensor) else np.asarray(means)
-    if means_arr.ndim != 2:
-        raise ValueError(f"means must have shape (Q, D), got {tuple(means_arr.shape)}")
-    q, d = means_arr.shape
-    check_shape("weights", weights, (q,))
+    shapes = {k: tuple(np.shape(v.detach() if isinstance(v, torch.Tensor) else v))
+              for k, v in (("weights", weights), ("means", means), ("variances", variances))}
+    ok = (len(shapes["means"]) == 2 and shapes["variances"] == shapes["means"]
+          and shapes["weights"] == shapes["means"][:1])
+    if not ok:
+        raise ValueError(f"weights, means and variances must have shapes (Q,), (Q, D) and "
+                         f"(Q, D) with the same Q and D, got weights {shapes['weights']}, "
+                         f"means {shapes['means']}, variances {shapes['variances']}")
     check_positive("weights", weights)
-    check_shape("means", means, (q, d))
     check_finite("means", means)
-    check_shape("variances", variances, (q, d))
     check_positive("variances", variances)
+    q, d = shapes["means"]
     check_lags(name, lags, d)
     return q
 
@@ -186,9 +188,11 @@ def spectral_mixture(lags, weights, means, variances):
         \boldsymbol\mu_q) \exp(-2\pi^2 \boldsymbol\tau^\top \boldsymbol\Sigma_q
         \boldsymbol\tau), \quad \boldsymbol\Sigma_q = \operatorname{diag}(\text{variances}_q).
 
-    This is a *product over dimensions inside each component*, summed over components
-    -- unlike GPyTorch's ``SpectralMixtureKernel``, which for D > 1 sums over components
-    per dimension and then multiplies over dimensions. The two agree for D = 1 only.
+    Each component is one plane wave (the cosine of the summed phase
+    :math:`2\pi\boldsymbol\tau^\top\boldsymbol\mu_q`) under one Gaussian envelope, and the
+    components are summed -- unlike GPyTorch's ``SpectralMixtureKernel``, which for D > 1
+    sums components per dimension and then multiplies over dimensions. The two agree for
+    D = 1 only.
 
     Args:
         lags: shape (..., D).

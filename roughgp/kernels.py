@@ -36,7 +36,7 @@ _DTYPE = torch.float64
 
 
 def _tensor(name, value, shape):
-    t = torch.as_tensor(value, dtype=_DTYPE)
+    t = torch.as_tensor(value, dtype=_DTYPE).clone()  # never share memory with the caller
     if tuple(t.shape) != tuple(shape):
         raise ValueError(f"{name} must have shape {tuple(shape)}, got {tuple(t.shape)}")
     return t
@@ -68,6 +68,10 @@ class StationaryKernel(gpytorch.kernels.Kernel):
         raise NotImplementedError(f"{type(self).__name__} has no closed-form PSD")
 
     def _evaluate(self, method, points):
+        shape = tuple(points.shape) if hasattr(points, "shape") else np.shape(points)
+        if len(shape) == 0 or shape[-1] != self.dim:
+            raise ValueError(f"lags/freqs must have shape (..., {self.dim}) for this "
+                             f"{self.dim}-D kernel, got {shape}")
         hyper = self.hyperparameters()
         if isinstance(points, torch.Tensor):
             return method(points, **hyper)
