@@ -6,22 +6,55 @@ r"""Draws of a latent surface on a regular grid, eq 10: :math:`\mathbf G \sim \m
   :math:`\mathbf g = \mathbf L\boldsymbol\varepsilon` (the reparameterisation of section 2.2).
   Memory grows as :math:`N^2` and time as :math:`N^3`: the call refuses, before allocating,
   when the covariance would not fit in memory.
+* ``"lanczos"``: the paper's approximation (LOVE, Pleiss et al. 2018): GPyTorch's
+  ``root_decomposition(method="lanczos")`` with ``rank`` Lanczos iterations gives
+  :math:`\mathbf R \approx \mathbf Q\mathbf T\mathbf Q^\top` of rank ``rank``; the draw is
+  :math:`\mathbf Q\mathbf T^{1/2}\boldsymbol\varepsilon`. A low rank loses variance: the kept
+  share of the trace is reported. (GPyTorch's own ``MultivariateNormal.rsample()`` does this
+  with ``rank = settings.max_root_decomposition_size`` = 100 by default once N exceeds
+  ``settings.max_cholesky_size`` = 800.)
+* ``"circulant"``: exact in O(N log N) by circulant embedding (:mod:`roughgp.circulant`);
+  an additive kernel (eq 22) is drawn as two profiles and summed, exactly, in O(N).
+* ``"auto"``: the cheapest exact method by a cost model (see :func:`choose_method`).
 """
 
 from __future__ import annotations
 
+import logging
+import math
 import os
 import warnings
+from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
 import scipy.linalg
 
+from roughgp import circulant
 from roughgp.grid import centred_lags, normalize
 
-__all__ = ["sample_grid", "grid_covariance", "METHODS"]
+__all__ = ["sample_grid", "grid_covariance", "choose_method", "SamplingInfo", "METHODS"]
 
-METHODS = ("auto", "cholesky")
+METHODS = ("auto", "cholesky", "lanczos", "circulant")
+
+_LOG = logging.getLogger(__name__)
+_EMBEDDINGS: dict = {}  # the last few circulant embeddings, keyed by kernel state and grid
+_CACHE_SIZE = 2
+
+
+@dataclass
+class SamplingInfo:
+    """What ``sample_grid(..., return_info=True)`` did: the method, and its accuracy figures."""
+
+    method: str
+    reason: str = ""
+    torus_shape: tuple | None = None
+    min_eigenvalue: float | None = None
+    clipped_fraction: float = 0.0
+    kept_trace_fraction: float = 1.0
+    jitter: float = 0.0
+    cached: bool = False
+    details: dict = field(default_factory=dict)
 
 _BYTES = 8  # float64
 
@@ -75,9 +108,9 @@ def grid_covariance(kernel, shape, spacing=1.0):
 
 
 def _cholesky_factor(covariance):
-    """Lower Cholesky factor, with the smallest diagonal jitter (1e-12 .. 1e-6 of the mean
-    variance) that makes a numerically semi-definite matrix factorisable, and a warning
-    naming the jitter when one was needed."""
+    """Lower Cholesky factor and the relative jitter used: the smallest diagonal jitter
+    (0, then 1e-12 .. 1e-6 of the mean variance) that makes a numerically semi-definite
+    matrix factorisable, with a warning naming the jitter when one was needed."""
     scale = float(np.mean(np.diag(covariance)))
     for rel in (0.0, 1e-12, 1e-10, 1e-8, 1e-6):
         try:
@@ -87,14 +120,136 @@ def _cholesky_factor(covariance):
             continue
         if rel:
             warnings.warn(f"covariance needed a diagonal jitter of {rel:g} x the mean variance "
-                          f"to factorise", stacklevel=3)
-        return factor
+                          f"to factorise", stacklevel=4)
+        return factor, rel
     raise ValueError("the covariance is not positive semi-definite (Cholesky failed even with "
                      "a jitter of 1e-6 x the mean variance): the kernel is not a valid ACVF "
                      "on this grid")
 
 
-def sample_grid(kernel, shape, *, spacing=1.0, n_samples=1, method="auto", seed=None):
+def _check_dense_memory(shape, method, copies=2):
+    n_points = int(np.prod(shape))
+    needed = copies * n_points**2 * _BYTES
+    available = _available_bytes()
+    if needed > 0.8 * available:
+        raise ValueError(f"method={method!r} on shape {shape} needs a dense {n_points} x "
+                         f"{n_points} covariance: about {needed / 2**30:.1f} GiB, but only "
+                         f"{available / 2**30:.1f} GiB are free; use method='circulant' or a "
+                         f"smaller grid")
+
+
+def _draw_cholesky(kernel, shape, spacing, n_samples, rng, info):
+    _check_dense_memory(shape, "cholesky")
+    factor, info.jitter = _cholesky_factor(grid_covariance(kernel, shape, spacing))
+    noise = rng.standard_normal((factor.shape[0], n_samples))
+    return (factor @ noise).T.reshape((n_samples, *shape))
+
+
+def _draw_lanczos(kernel, shape, spacing, n_samples, rng, info, rank):
+    import torch
+    from linear_operator.utils import lanczos
+
+    n_points = int(np.prod(shape))
+    if not isinstance(rank, (int, np.integer)) or not 1 <= rank <= n_points:
+        raise ValueError(f"rank must be an integer in [1, {n_points}] (the number of grid "
+                         f"points), got {rank!r}")
+    _check_dense_memory(shape, "lanczos", copies=1)
+    covariance = torch.from_numpy(grid_covariance(kernel, shape, spacing))
+    # The steps of linear_operator's RootDecomposition (what GPyTorch's rsample runs beyond
+    # max_cholesky_size), with the Lanczos start vector drawn from our seed, not torch's
+    # global generator: Q T Q^T ~ R, root = Q V sqrt(D) with T = V D V^T.
+    start = torch.from_numpy(rng.standard_normal((n_points, 1)))
+    q_mat, t_mat = lanczos.lanczos_tridiag(covariance.matmul, int(rank), dtype=torch.float64,
+                                           device=covariance.device,
+                                           matrix_shape=covariance.shape, init_vecs=start)
+    eigenvalues, eigenvectors = lanczos.lanczos_tridiag_to_diag(t_mat)
+    root = (q_mat @ eigenvectors) * eigenvalues.clamp_min(0).sqrt().unsqueeze(-2)
+    info.kept_trace_fraction = float((root * root).sum() / torch.diagonal(covariance).sum())
+    info.details["rank"] = int(root.shape[-1])
+    noise = torch.from_numpy(rng.standard_normal((root.shape[-1], n_samples)))
+    return (root @ noise).T.numpy().reshape((n_samples, *shape))
+
+
+def _cache_key(kernel, shape, spacing, options):
+    hyper = getattr(kernel, "hyperparameters", None)
+    if hyper is None:
+        return None  # a plain function: no way to tell whether it changed
+    state = tuple((k, tuple(np.atleast_1d(v.detach().cpu().numpy()).ravel().tolist()))
+                  for k, v in hyper().items())
+    return (type(kernel).__name__, getattr(kernel, "nu", None), state, shape,
+            tuple(spacing.tolist()), options)
+
+
+def _embedding(kernel, shape, spacing, info, **options):
+    key = _cache_key(kernel, shape, spacing, tuple(sorted(options.items())))
+    if key is not None and key in _EMBEDDINGS:
+        info.cached = True
+        return _EMBEDDINGS[key]
+    embedding = circulant.embed(_acvf_of(kernel), shape, spacing, **options)
+    if key is not None:
+        while len(_EMBEDDINGS) >= _CACHE_SIZE:
+            _EMBEDDINGS.pop(next(iter(_EMBEDDINGS)))
+        _EMBEDDINGS[key] = embedding
+    return embedding
+
+
+def _draw_circulant(kernel, shape, spacing, n_samples, rng, info, approximate, dtype):
+    from roughgp.kernels import AdditiveKernel
+
+    if isinstance(kernel, AdditiveKernel) and len(shape) == 2:
+        # eq 22: G(x, y) = G_x(x) + G_y(y) with independent profiles, exact in O(N)
+        ny, nx = shape
+        gx = _draw_circulant(kernel.kernel_x, (nx,), spacing[1:], n_samples, rng, info,
+                             approximate, dtype)
+        gy = _draw_circulant(kernel.kernel_y, (ny,), spacing[:1], n_samples, rng, info,
+                             approximate, dtype)
+        info.details["additive"] = True
+        return gx[:, None, :] + gy[:, :, None]
+    embedding = _embedding(kernel, shape, spacing, info, approximate=approximate)
+    info.torus_shape = embedding.torus_shape
+    info.min_eigenvalue = embedding.min_eigenvalue
+    info.clipped_fraction = max(info.clipped_fraction, embedding.clipped_fraction)
+    if embedding.clipped_fraction > 0:
+        warnings.warn(f"approximate circulant embedding: negative eigenvalues holding "
+                      f"{embedding.clipped_fraction:.2e} of the variance were clipped",
+                      stacklevel=4)
+    return circulant.draw(embedding, n_samples, rng, dtype=dtype)
+
+
+_FLOPS_PER_SECOND = 2e10  # dense linear algebra on the reference 2-core machine
+
+
+def choose_method(kernel, shape, spacing=1.0, n_samples=1):
+    """The cheapest exact method for this kernel and grid, and why.
+
+    Cost model (seconds, reference machine): Cholesky ``N^3 / 3 + N^2 n`` flops at 2e10 flop/s,
+    and infinite when the dense covariance does not fit in memory; circulant embedding
+    ``(2 + ceil(n / 2)) * 5 M log2 M`` flops for the search and the FFTs on the torus of M
+    points that :func:`roughgp.circulant.predict_torus` expects (no FFT is taken to guess it).
+    An additive kernel (eq 22) always goes to the O(N) circulant route.
+    """
+    from roughgp.kernels import AdditiveKernel
+
+    shape, spacing = normalize(shape, spacing)
+    if isinstance(kernel, AdditiveKernel) and len(shape) == 2:
+        return "circulant", "additive kernel (eq 22): two exact profiles, O(N)"
+    n_points = int(np.prod(shape))
+    dense_bytes = 2 * n_points**2 * _BYTES
+    cholesky_cost = (math.inf if dense_bytes > 0.8 * _available_bytes()
+                     else (n_points**3 / 3 + n_points**2 * n_samples) / _FLOPS_PER_SECOND)
+    torus = circulant.predict_torus(_acvf_of(kernel), shape, spacing)
+    m = int(np.prod(torus))
+    fft_flops = 5 * m * max(math.log2(m), 1)
+    circulant_cost = (2 + math.ceil(n_samples / 2)) * fft_flops / (_FLOPS_PER_SECOND / 10)
+    if cholesky_cost <= circulant_cost:
+        return "cholesky", (f"Cholesky ~{cholesky_cost:.2g} s vs circulant ~{circulant_cost:.2g} s "
+                            f"(torus about {torus})")
+    return "circulant", (f"circulant ~{circulant_cost:.2g} s (torus about {torus}) vs Cholesky "
+                         f"{'out of memory' if math.isinf(cholesky_cost) else f'~{cholesky_cost:.2g} s'}")
+
+
+def sample_grid(kernel, shape, *, spacing=1.0, n_samples=1, method="auto", seed=None,
+                rank=100, approximate=False, dtype=np.float64, return_info=False):
     """Draw ``n_samples`` latent surfaces G ~ N(0, R) (eq 10) on a regular grid.
 
     Args:
@@ -103,25 +258,37 @@ def sample_grid(kernel, shape, *, spacing=1.0, n_samples=1, method="auto", seed=
         shape: ``(n,)`` for a profile or ``(ny, nx)`` for a surface (array order).
         spacing: grid spacing, scalar or per axis in array order.
         n_samples: number of independent draws (>= 1).
-        method: ``"cholesky"`` (exact, dense) or ``"auto"``.
+        method: ``"auto"``, ``"cholesky"``, ``"lanczos"`` or ``"circulant"`` (module docstring).
         seed: int, None or ``numpy.random.Generator``; the same seed gives the same array.
+        rank: Lanczos iterations for ``method="lanczos"``.
+        approximate: circulant only: clip negative eigenvalues of a smaller torus (the clipped
+            share of the variance is reported and warned about) instead of growing it.
+        dtype: ``numpy.float32`` runs circulant FFTs in single precision (half the memory).
+        return_info: also return a :class:`SamplingInfo`.
 
     Returns:
-        float64 array of shape ``(n_samples, *shape)``.
+        array of shape ``(n_samples, *shape)`` (and the info when asked).
     """
     shape, spacing = normalize(shape, spacing)
     if not isinstance(n_samples, (int, np.integer)) or n_samples < 1:
         raise ValueError(f"n_samples must be an integer >= 1, got {n_samples!r}")
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
+    if np.dtype(dtype) not in (np.float32, np.float64):
+        raise ValueError(f"dtype must be numpy.float32 or numpy.float64, got {dtype!r}")
+    _acvf_of(kernel)
     rng = _rng(seed)
-    n_points = int(np.prod(shape))
-    needed = 2 * n_points**2 * _BYTES  # the covariance and its factor
-    available = _available_bytes()
-    if needed > 0.8 * available:
-        raise ValueError(f"method='cholesky' on shape {shape} needs a dense {n_points} x "
-                         f"{n_points} covariance: about {needed / 2**30:.1f} GiB, but only "
-                         f"{available / 2**30:.1f} GiB are free; use a smaller grid")
-    factor = _cholesky_factor(grid_covariance(kernel, shape, spacing))
-    noise = rng.standard_normal((n_points, int(n_samples)))
-    return (factor @ noise).T.reshape((int(n_samples), *shape))
+    n_samples = int(n_samples)
+    reason = "requested"
+    if method == "auto":
+        method, reason = choose_method(kernel, shape, spacing, n_samples)
+        _LOG.info("sample_grid chose method=%r: %s", method, reason)
+    info = SamplingInfo(method=method, reason=reason)
+    if method == "cholesky":
+        samples = _draw_cholesky(kernel, shape, spacing, n_samples, rng, info)
+    elif method == "lanczos":
+        samples = _draw_lanczos(kernel, shape, spacing, n_samples, rng, info, rank)
+    else:
+        samples = _draw_circulant(kernel, shape, spacing, n_samples, rng, info, approximate,
+                                  dtype)
+    return (samples, info) if return_info else samples
