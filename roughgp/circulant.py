@@ -161,13 +161,12 @@ def embed(acvf, shape, spacing=1.0, *, tolerance=1e-10, approximate=False,
         torus_shape = tuple(torus)
         eig, variance = _eigenvalues(acvf, torus_shape, spacing)
         min_rel = float(eig.min() / variance)
-        negative_share = float(-eig[eig < 0].sum() / eig.sum())
+        significant = eig < -tolerance * variance  # smaller ones are rounding, in both modes
+        negative_share = float(-eig[significant].sum() / eig.sum())
         tries.append((torus_shape, min_rel))
         done = (negative_share < max_clipped_fraction) if approximate else (min_rel >= -tolerance)
         if done:
-            clipped = negative_share if min_rel < 0 else 0.0
-            if not approximate:
-                clipped = 0.0  # within tolerance: rounding, not a model error
+            clipped = negative_share if approximate else 0.0
             scale = np.sqrt(np.clip(eig, 0.0, None) / eig.size)
             return Embedding(shape, spacing, torus_shape, scale, min_rel, clipped, tuple(tries))
         levels = [_boundary_level(acvf, torus_shape, spacing, a) for a in range(len(shape))]

@@ -60,9 +60,10 @@ def _check_real(array, what):
     scale = np.abs(array).max()
     if scale > 0 and np.abs(array.imag).max() > 1e-8 * scale:
         raise ValueError(f"{what}: its transform has an imaginary part of "
-                         f"{np.abs(array.imag).max() / scale:.1e} of its largest value; "
-                         f"for an even grid size the most negative lag/frequency has no mirror, "
-                         f"use an odd size or a function that vanishes there")
+                         f"{np.abs(array.imag).max() / scale:.1e} of its largest value. On an "
+                         f"even-size grid the most negative lag/frequency of an axis has no "
+                         f"mirror: a 2-D function that is even but not symmetric about each "
+                         f"axis (e.g. a rotated one) needs odd sizes or to vanish at the edges")
 
 
 def duality_errors(acvf, psd, shape, spacing=1.0, band=None):

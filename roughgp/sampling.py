@@ -79,9 +79,11 @@ def _available_bytes() -> int:
 def _rng(seed) -> np.random.Generator:
     if isinstance(seed, np.random.Generator):
         return seed
-    if seed is None or isinstance(seed, (int, np.integer)):
+    if seed is None or (isinstance(seed, (int, np.integer)) and not isinstance(seed, bool)
+                        and seed >= 0):
         return np.random.default_rng(seed)
-    raise ValueError(f"seed must be an int, None or a numpy.random.Generator, got {seed!r}")
+    raise ValueError(f"seed must be an integer >= 0, None or a numpy.random.Generator, "
+                     f"got {seed!r}")
 
 
 def grid_covariance(kernel, shape, spacing=1.0):
@@ -263,7 +265,8 @@ def sample_grid(kernel, shape, *, spacing=1.0, n_samples=1, method="auto", seed=
         rank: Lanczos iterations for ``method="lanczos"``.
         approximate: circulant only: clip negative eigenvalues of a smaller torus (the clipped
             share of the variance is reported and warned about) instead of growing it.
-        dtype: ``numpy.float32`` runs circulant FFTs in single precision (half the memory).
+        dtype: of the result; ``numpy.float32`` also runs circulant FFTs in single precision
+            (half the memory). Dense methods always compute in float64.
         return_info: also return a :class:`SamplingInfo`.
 
     Returns:
@@ -274,8 +277,13 @@ def sample_grid(kernel, shape, *, spacing=1.0, n_samples=1, method="auto", seed=
         raise ValueError(f"n_samples must be an integer >= 1, got {n_samples!r}")
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
-    if np.dtype(dtype) not in (np.float32, np.float64):
+    try:
+        valid_dtype = np.dtype(dtype) in (np.float32, np.float64)
+    except TypeError:
+        valid_dtype = False
+    if not valid_dtype:
         raise ValueError(f"dtype must be numpy.float32 or numpy.float64, got {dtype!r}")
+    dtype = np.dtype(dtype)
     _acvf_of(kernel)
     rng = _rng(seed)
     n_samples = int(n_samples)
@@ -291,4 +299,5 @@ def sample_grid(kernel, shape, *, spacing=1.0, n_samples=1, method="auto", seed=
     else:
         samples = _draw_circulant(kernel, shape, spacing, n_samples, rng, info, approximate,
                                   dtype)
+    samples = samples.astype(dtype, copy=False)  # dense methods compute in float64
     return (samples, info) if return_info else samples

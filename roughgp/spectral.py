@@ -83,16 +83,21 @@ def empirical_acvf(z, spacing=1.0, max_lag=None, unbiased=False, demean=True):
     """
     z = _data(z)
     shape, spacing = normalize(z.shape, spacing)
-    max_lag = np.broadcast_to(np.asarray(shape) - 1 if max_lag is None else max_lag,
-                              (len(shape),)).astype(int)
+    try:
+        max_lag = np.broadcast_to(np.asarray(shape) - 1 if max_lag is None else max_lag,
+                                  (len(shape),)).astype(int)
+    except ValueError:
+        raise ValueError(f"max_lag must be an integer or one integer per axis of z "
+                         f"(shape {shape}), got {max_lag!r}") from None
     if np.any(max_lag < 0) or np.any(max_lag >= np.asarray(shape)):
         raise ValueError(f"max_lag must be in [0, n - 1] per axis (n = {shape}), "
                          f"got {max_lag.tolist()}")
     if demean:
         z = z - z.mean()
     padded = tuple(2 * n for n in shape)
-    spectrum = np.fft.rfftn(z, padded)
-    products = np.fft.irfftn(spectrum * np.conj(spectrum), padded)
+    axes = tuple(range(z.ndim))
+    spectrum = np.fft.rfftn(z, padded, axes=axes)
+    products = np.fft.irfftn(spectrum * np.conj(spectrum), padded, axes=axes)
     products = np.fft.fftshift(products)  # lag zero at index n of each axis (2n points)
     window = tuple(slice(n - m, n + m + 1) for n, m in zip(shape, max_lag))
     products = products[window]
