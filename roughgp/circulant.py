@@ -84,13 +84,27 @@ def _wrapped_acvf(acvf, torus_shape, spacing):
     return values
 
 
+def _outer_level(base):
+    """max |c| over the torus points whose wrapped lag exceeds a quarter of the torus along
+    some axis (the outer half of each axis), relative to c(0)."""
+    level = 0.0
+    for axis, m in enumerate(base.shape):
+        outer = [slice(None)] * base.ndim
+        outer[axis] = slice(m // 4 + 1, m - m // 4)
+        if m // 4 + 1 < m - m // 4:
+            level = max(level, float(np.abs(base[tuple(outer)]).max()))
+    return level / float(base.flat[0])
+
+
 def _eigenvalues(acvf, torus_shape, spacing):
+    """Eigenvalues of the circulant matrix, r(0), and the ACVF level on the torus' outer half."""
     base = _wrapped_acvf(acvf, torus_shape, spacing)
     variance = float(base.flat[0])
     if variance <= 0:
         raise ValueError(f"the ACVF at lag 0 must be > 0, got {variance}")
+    outer = _outer_level(base)
     eig = scipy.fft.fftn(base, workers=-1, overwrite_x=True).real
-    return eig, variance
+    return eig, variance, outer
 
 
 def _boundary_level(acvf, torus_shape, spacing, axis):
@@ -149,7 +163,11 @@ def embed(acvf, shape, spacing=1.0, *, tolerance=1e-10, approximate=False,
 
     Raises:
         NotEmbeddableError: when the torus would exceed ``max_points`` before the criterion
-            holds; the message says how negative the eigenvalues were and what was tried.
+            holds, or at once when the ACVF is already below ``tolerance`` x r(0) on the outer
+            half of the torus while significant negative eigenvalues remain: a larger torus then
+            only samples the same (non-positive-definite) spectrum more finely, so the ACVF
+            sampled at this spacing is not a valid covariance. The message says how negative
+            the eigenvalues were and what was tried.
     """
     shape, spacing = normalize(shape, spacing)
     spacing = tuple(float(d) for d in spacing)
@@ -159,7 +177,7 @@ def embed(acvf, shape, spacing=1.0, *, tolerance=1e-10, approximate=False,
     tries = []
     while True:
         torus_shape = tuple(torus)
-        eig, variance = _eigenvalues(acvf, torus_shape, spacing)
+        eig, variance, outer_level = _eigenvalues(acvf, torus_shape, spacing)
         min_rel = float(eig.min() / variance)
         significant = eig < -tolerance * variance  # smaller ones are rounding, in both modes
         negative_share = float(-eig[significant].sum() / eig.sum())
@@ -169,6 +187,13 @@ def embed(acvf, shape, spacing=1.0, *, tolerance=1e-10, approximate=False,
             clipped = negative_share if approximate else 0.0
             scale = np.sqrt(np.clip(eig, 0.0, None) / eig.size)
             return Embedding(shape, spacing, torus_shape, scale, min_rel, clipped, tuple(tries))
+        if outer_level <= tolerance:
+            raise NotEmbeddableError(
+                f"the ACVF is not positive definite on a grid of spacing {spacing}: on the "
+                f"torus {torus_shape} its circulant embedding has eigenvalues down to "
+                f"{min_rel:.3g} x r(0) ({negative_share:.2g} of the trace) although the ACVF is "
+                f"already below {tolerance:g} x r(0) on the torus' outer half, so no larger "
+                f"torus removes them. A valid kernel (eq 5: its PSD is >= 0) is needed.")
         levels = [_boundary_level(acvf, torus_shape, spacing, a) for a in range(len(shape))]
         axis = int(np.argmax(levels))
         torus[axis] = _grow(torus[axis])

@@ -164,7 +164,15 @@ def _draw_lanczos(kernel, shape, spacing, n_samples, rng, info, rank):
     q_mat, t_mat = lanczos.lanczos_tridiag(covariance.matmul, int(rank), dtype=torch.float64,
                                            device=covariance.device,
                                            matrix_shape=covariance.shape, init_vecs=start)
-    eigenvalues, eigenvectors = lanczos.lanczos_tridiag_to_diag(t_mat)
+    # eigh of T directly: linear_operator's lanczos_tridiag_to_diag masks negative Ritz values.
+    # Ritz values lie in [lambda_min, lambda_max]: a clearly negative one proves the
+    # covariance indefinite, which clamping would hide
+    eigenvalues, eigenvectors = torch.linalg.eigh(t_mat)
+    if float(eigenvalues.min()) < -1e-8 * float(eigenvalues.max()):
+        raise ValueError(f"the covariance is not positive semi-definite (a Lanczos Ritz value "
+                         f"is {float(eigenvalues.min()):.3g}, the largest "
+                         f"{float(eigenvalues.max()):.3g}): the kernel is not a valid ACVF on "
+                         f"this grid")
     root = (q_mat @ eigenvectors) * eigenvalues.clamp_min(0).sqrt().unsqueeze(-2)
     info.kept_trace_fraction = float((root * root).sum() / torch.diagonal(covariance).sum())
     info.details["rank"] = int(root.shape[-1])

@@ -262,6 +262,25 @@ def test_sample_grid_propagates_not_embeddable_error(monkeypatch):
         sample_grid(kernel, (20, 20), method="circulant", seed=0)
 
 
+def _box(lags):
+    """The rectangle 'ACVF' of the notation chapter: its PSD is a sinc, negative in places."""
+    from roughgp import acvf
+    return acvf.rectangular(lags, variance=1.0, width=1.0)
+
+
+@pytest.mark.parametrize("method", ["auto", "circulant", "cholesky", "lanczos"])
+def test_non_positive_definite_acvf_is_refused(method):
+    with pytest.raises(ValueError, match="not positive"):
+        sample_grid(_box, (201,), spacing=0.05, method=method, seed=0)
+
+
+def test_non_positive_definite_acvf_is_refused_on_the_first_torus():
+    # not after growing the torus to max_points (minutes and GiBs: a CI timeout once)
+    with pytest.raises(circulant.NotEmbeddableError, match=r"torus \(400,\)") as excinfo:
+        circulant.embed(_box, (201,), spacing=0.05)
+    assert "no larger torus" in str(excinfo.value)
+
+
 # lambda_a = 100 instead of figure 2's 500 keeps the approximate torus small (about 1.2 M
 # points instead of 35 M) while still needing clipping; exact embedding of figure 2's kernel
 # at these max_points is what the test above shows failing.
