@@ -6,6 +6,7 @@ run, and the ratios the sampling issue sets as targets. Not a test: run it by ha
 
     python benchmarks/sampling.py            # up to 2048^2 (a few minutes on 2 cores)
     python benchmarks/sampling.py --full     # also 4096^2 exactly (float32 FFTs)
+    python benchmarks/sampling.py --sizes 2000 4096   # only these grids (circulant, FFT filter)
 """
 
 from __future__ import annotations
@@ -50,10 +51,12 @@ def run(method, n, dtype="float64", draws=2):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--full", action="store_true", help="also 4096 x 4096")
+    parser.add_argument("--sizes", type=int, nargs="+", help="only these grid sizes n (n x n)")
     args = parser.parse_args()
     sizes = [32, 64, 100, 128, 256, 512, 1024, 2000, 2048] + ([4096] if args.full else [])
-    plan = {"cholesky": [32, 64, 100], "lanczos": [32, 64, 100], "circulant": sizes,
-            "fft_filter": sizes}
+    sizes = args.sizes or sizes
+    dense = [n for n in (32, 64, 100) if n in sizes]
+    plan = {"cholesky": dense, "lanczos": dense, "circulant": sizes, "fft_filter": sizes}
     rows = []
     print("seconds per sample: 'first' includes set-up (factorisation / embedding search), "
           "'next' is a second call on the same kernel and grid")

@@ -39,7 +39,8 @@ METHODS = ("auto", "cholesky", "lanczos", "circulant")
 
 _LOG = logging.getLogger(__name__)
 _EMBEDDINGS: dict = {}  # the last few circulant embeddings, keyed by kernel state and grid
-_CACHE_SIZE = 2
+_CACHE_SIZE = 8  # enough for the four kernels of a two-step honed surface (eq 20)
+_CACHE_BYTES = 2 * 2**30  # ... but older entries go once the cache holds more than this
 
 
 @dataclass
@@ -197,9 +198,11 @@ def _embedding(kernel, shape, spacing, info, **options):
         return _EMBEDDINGS[key]
     embedding = circulant.embed(_acvf_of(kernel), shape, spacing, **options)
     if key is not None:
-        while len(_EMBEDDINGS) >= _CACHE_SIZE:
-            _EMBEDDINGS.pop(next(iter(_EMBEDDINGS)))
         _EMBEDDINGS[key] = embedding
+        while len(_EMBEDDINGS) > 1 and (
+                len(_EMBEDDINGS) > _CACHE_SIZE
+                or sum(e.nbytes for e in _EMBEDDINGS.values()) > _CACHE_BYTES):
+            _EMBEDDINGS.pop(next(iter(_EMBEDDINGS)))
     return embedding
 
 

@@ -15,7 +15,7 @@ from scipy import signal
 from roughgp._checks import check_finite
 from roughgp.grid import centred_frequencies, centred_lags, normalize
 
-__all__ = ["periodogram", "welch", "empirical_acvf"]
+__all__ = ["periodogram", "welch", "empirical_acvf", "near_direction"]
 
 
 def _data(z, name="z"):
@@ -111,3 +111,29 @@ def empirical_acvf(z, spacing=1.0, max_lag=None, unbiased=False, demean=True):
         values = products / z.size
     lags = centred_lags(tuple(2 * m + 1 for m in max_lag), spacing)
     return lags, values
+
+
+
+def near_direction(lags, angle, half_width):
+    """Select the lags of a grid that lie within ``half_width`` of the line through lag zero
+    in the direction ``angle`` (radians, counter-clockwise from x), e.g. to compare an
+    empirical ACVF with eq 18 along and across the grooves at the grid's own lags (no
+    interpolation across a sharp ridge).
+
+    Args:
+        lags: shape ``(..., 2)``, components (x, y) (as from :func:`empirical_acvf`).
+        half_width: > 0, in the lags' unit.
+
+    Returns:
+        ``(mask, distance)``: the boolean mask of the selected lags (shape ``lags.shape[:-1]``)
+        and their distance along the direction (>= 0 ahead of lag zero, < 0 behind it).
+    """
+    lags = np.asarray(lags, dtype=np.float64)
+    if lags.ndim < 2 or lags.shape[-1] != 2:
+        raise ValueError(f"lags must have shape (..., 2), got {lags.shape}")
+    if not np.isfinite(half_width) or half_width <= 0:
+        raise ValueError(f"half_width must be > 0, got {half_width!r}")
+    along = lags[..., 0] * np.cos(angle) + lags[..., 1] * np.sin(angle)
+    across = -lags[..., 0] * np.sin(angle) + lags[..., 1] * np.cos(angle)
+    mask = np.abs(across) <= half_width
+    return mask, along[mask]

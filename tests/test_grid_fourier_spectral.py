@@ -447,3 +447,17 @@ def test_spectral_rejects_bad_dimensions(z):
     for func in (spectral.periodogram, spectral.empirical_acvf):
         with pytest.raises(ValueError, match="z must be"):
             func(z)
+
+
+def test_near_direction_selects_the_lags_on_a_line():
+    lags = grid.centred_lags((21, 31), (0.5, 0.25))
+    mask, along = spectral.near_direction(lags, math.pi / 2, half_width=0.1)
+    assert mask.sum() == 21 and np.all(lags[mask][:, 0] == 0)   # the y axis
+    np.testing.assert_allclose(np.sort(along), np.arange(-10, 11) * 0.5)
+    mask, along = spectral.near_direction(lags, math.pi / 4, half_width=1e-9)
+    np.testing.assert_allclose(lags[mask][:, 0], lags[mask][:, 1])
+    np.testing.assert_allclose(along, np.hypot(*lags[mask].T) * np.sign(lags[mask][:, 0]))
+    with pytest.raises(ValueError, match="half_width"):
+        spectral.near_direction(lags, 0.0, half_width=0.0)
+    with pytest.raises(ValueError, match="lags"):
+        spectral.near_direction(np.zeros((5, 3)), 0.0, half_width=1.0)

@@ -99,3 +99,32 @@ def test_fft_filter_rejects_bad_input():
         fft_filter.fft_filter(lambda f: np.ones(f.shape[:-1]), (8,), n_samples=0)
     with pytest.raises(ValueError, match="psd"):
         fft_filter.fft_filter(lambda f: -np.ones(f.shape[:-1]), (8,))
+
+
+# ------------------------------------------------------------- spread of one surface's statistics
+
+@pytest.mark.parametrize("shape, spacing", [((7,), 0.7), ((6, 5), (0.5, 1.2)), ((4, 9), 1.0)])
+def test_grid_mean_variance_and_sample_variance_sd_match_the_dense_sums(shape, spacing):
+    if len(shape) == 1:
+        kernel = kernels.MaternKernel(0.5, lengthscale=2.0, variance=2.0)
+    else:
+        kernel = kernels.RotatedExponentialKernel(2.0, (3.0, 1.5), 0.5)
+    r = sampling.grid_covariance(kernel, shape, spacing=spacing) + 0.3 * np.eye(int(np.prod(shape)))
+    n = len(r)
+    assert diagnostics.grid_mean_variance(kernel, shape, spacing, noise_variance=0.3) == \
+        pytest.approx(r.sum() / n**2, rel=1e-12)
+    assert diagnostics.sample_variance_sd(kernel, shape, spacing, noise_variance=0.3) == \
+        pytest.approx(math.sqrt(2 * (r**2).sum()) / n, rel=1e-12)
+
+
+def test_sample_variance_sd_predicts_the_spread_of_draws():
+    kernel = kernels.RotatedExponentialKernel(1.0, (6.0, 2.0), 0.4)
+    shape = (32, 32)
+    draws = sampling.sample_grid(kernel, shape, n_samples=400, method="circulant", seed=11)
+    variances = (draws**2).mean(axis=(1, 2))  # about the known zero mean
+    predicted = diagnostics.sample_variance_sd(kernel, shape)
+    # the sd of 400 variances is within ~3.5 % of the truth (chi-like, heavier tail): 20 % margin
+    assert variances.std(ddof=1) == pytest.approx(predicted, rel=0.2)
+    means = draws.mean(axis=(1, 2))
+    assert means.var(ddof=1) == pytest.approx(diagnostics.grid_mean_variance(kernel, shape),
+                                              rel=0.25)  # sd of a 400-draw variance: 7 %

@@ -343,6 +343,25 @@ def test_embedding_cache():
     assert other.cached is False
 
 
+def test_embedding_cache_keeps_the_newest_within_its_count_and_byte_budget(monkeypatch):
+    monkeypatch.setattr(sampling, "_EMBEDDINGS", {})
+    monkeypatch.setattr(sampling, "_CACHE_SIZE", 3)
+    kernels = [_rot((2.0 + 0.1 * i, 1.0)) for i in range(5)]
+    for kernel in kernels:
+        sample_grid(kernel, (9, 8), method="circulant", seed=0)
+    assert len(sampling._EMBEDDINGS) == 3
+    _, newest = sample_grid(kernels[-1], (9, 8), method="circulant", seed=0, return_info=True)
+    _, oldest = sample_grid(kernels[0], (9, 8), method="circulant", seed=0, return_info=True)
+    assert newest.cached and not oldest.cached
+    one = next(iter(sampling._EMBEDDINGS.values())).nbytes
+    monkeypatch.setattr(sampling, "_CACHE_BYTES", 2 * one)
+    sample_grid(kernels[1], (9, 8), method="circulant", seed=0)
+    assert len(sampling._EMBEDDINGS) == 2
+    monkeypatch.setattr(sampling, "_CACHE_BYTES", 0)  # the newest stays even over budget
+    sample_grid(kernels[2], (9, 8), method="circulant", seed=0)
+    assert len(sampling._EMBEDDINGS) == 1
+
+
 # --------------------------------------------------------------------------- additive kernel
 
 def _additive():
