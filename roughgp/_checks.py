@@ -56,3 +56,15 @@ def check_lags(name: str, lags, dim: int) -> None:
         raise ValueError(f"{name} must have shape (..., {dim}) (last axis: the {dim} lag "
                          f"components), got {tuple(arr.shape)}")
     check_finite(name, arr)
+
+
+def as_generator(seed) -> np.random.Generator:
+    """The numpy Generator of a ``seed``: an int >= 0 (the same int gives the same draws),
+    None (fresh entropy) or a Generator (used as is, so calls can share one stream)."""
+    if isinstance(seed, np.random.Generator):
+        return seed
+    if seed is None or (isinstance(seed, (int, np.integer)) and not isinstance(seed, bool)
+                        and seed >= 0):
+        return np.random.default_rng(seed)
+    raise ValueError(f"seed must be an integer >= 0, None or a numpy.random.Generator, "
+                     f"got {seed!r}")

@@ -22,7 +22,7 @@ __all__ = ["fft_filter"]
 def fft_filter(psd, shape, *, spacing=1.0, n_samples=1, seed=None):
     """Draw ``n_samples`` periodic surfaces with PSD ``psd`` (a function of frequencies of
     shape (..., D), eq 5 convention) on a grid; shape ``(n_samples, *shape)``."""
-    from roughgp.sampling import _rng  # the one seed convention of the library
+    from roughgp._checks import as_generator as _rng  # the one seed convention
 
     shape, spacing = normalize(shape, spacing)
     if not isinstance(n_samples, (int, np.integer)) or n_samples < 1:

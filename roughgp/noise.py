@@ -13,7 +13,7 @@ from abc import ABC, abstractmethod
 import numpy as np
 
 from roughgp._checks import check_finite, check_nonnegative
-from roughgp.sampling import _rng
+from roughgp._checks import as_generator as _rng
 
 __all__ = ["NoiseModel", "GaussianNoise"]
 

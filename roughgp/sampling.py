@@ -31,6 +31,7 @@ import numpy as np
 import scipy.linalg
 
 from roughgp import circulant
+from roughgp._checks import as_generator as _rng
 from roughgp.grid import centred_lags, normalize
 
 __all__ = ["sample_grid", "grid_covariance", "choose_method", "SamplingInfo", "METHODS"]
@@ -75,16 +76,6 @@ def _available_bytes() -> int:
         return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
     except (ValueError, OSError, AttributeError):  # pragma: no cover - non-POSIX
         return 8 * 2**30
-
-
-def _rng(seed) -> np.random.Generator:
-    if isinstance(seed, np.random.Generator):
-        return seed
-    if seed is None or (isinstance(seed, (int, np.integer)) and not isinstance(seed, bool)
-                        and seed >= 0):
-        return np.random.default_rng(seed)
-    raise ValueError(f"seed must be an integer >= 0, None or a numpy.random.Generator, "
-                     f"got {seed!r}")
 
 
 def grid_covariance(kernel, shape, spacing=1.0):

@@ -25,7 +25,8 @@ import numpy as np
 
 from roughgp.kernels import RotatedExponentialKernel
 from roughgp.noise import GaussianNoise
-from roughgp.sampling import _rng, sample_grid
+from roughgp._checks import as_generator as _rng
+from roughgp.sampling import sample_grid
 
 __all__ = ["GrooveParameters", "ground", "honed", "honing_stack", "FIGURE_2", "FIGURE_2_SHAPE", "FIGURE_3",
            "FIGURE_3_SHAPE"]
