@@ -33,6 +33,7 @@ import numpy as np
 from scipy.signal import lfilter
 
 from roughgp._checks import as_generator as _rng
+from roughgp.toeplitz import toeplitz_log_likelihood
 
 __all__ = [
     "arma_acvf", "linear_process_weights", "acvf_from_weights", "simulate_arma",
@@ -264,10 +265,12 @@ def gp_log_likelihood(z, acvf_values):
     r"""Exact log-likelihood of a zero-mean profile ``z`` under a stationary Gaussian process.
 
     The covariance is the Toeplitz matrix :math:`K_{st} = r(|s - t|)` with first column
-    ``acvf_values[:len(z)]`` (the sampled kernel: R of eq 10). The Durbin-Levinson recursion
-    gives the one-step innovations :math:`e_t` and their variances :math:`v_t`, and
-    :math:`\log p(z) = -\tfrac12 \sum_t (\log 2\pi v_t + e_t^2 / v_t)`, the exact Gaussian
-    likelihood in :math:`O(n^2)` (Brockwell & Davis 1991, §5.2, §8.6).
+    ``acvf_values[:len(z)]`` (the sampled kernel: R of eq 10). In the innovations form the
+    Durbin-Levinson recursion gives the one-step prediction errors :math:`e_t` and their
+    variances :math:`v_t`, and :math:`\log p(z) = -\tfrac12 \sum_t (\log 2\pi v_t +
+    e_t^2 / v_t)` (Brockwell & Davis 1991, §5.2, §8.6): the exact Gaussian likelihood in
+    :math:`O(n^2)`. It is evaluated by :func:`roughgp.toeplitz.toeplitz_log_likelihood`
+    (the same recursion, compiled, with the quadratic form by FFT).
 
     Args:
         z: 1-D profile of length n (finite), zero mean.
@@ -275,11 +278,7 @@ def gp_log_likelihood(z, acvf_values):
     """
     z = _vector("z", z, min_size=1)
     r = _vector("acvf_values", acvf_values, min_size=z.size)
-    quad = logdet = 0.0
-    for t, (phi, v) in enumerate(_durbin_levinson(r, z.size - 1)):
-        e = z[t] - phi @ z[:t][::-1]
-        quad, logdet = quad + e * e / v, logdet + math.log(v)
-    return -0.5 * (quad + logdet + z.size * math.log(2.0 * math.pi))
+    return toeplitz_log_likelihood(z, r)
 
 
 def arma_log_likelihood(z, ar, ma, sigma2):

@@ -18,6 +18,7 @@ a tolerance. Clipping negative eigenvalues makes the draw approximate: only done
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -28,7 +29,7 @@ from roughgp.grid import normalize
 __all__ = ["Embedding", "embed", "draw", "minimal_torus", "predict_torus", "wrapped_lags",
            "NotEmbeddableError"]
 
-_BLOCK_ROWS = 256  # ACVF evaluated on this many torus rows at a time (bounds peak memory)
+_BLOCK_POINTS = 2**20  # ACVF evaluated on about this many torus points at a time (peak memory)
 
 
 class NotEmbeddableError(ValueError):
@@ -76,8 +77,9 @@ def wrapped_lags(torus_shape, spacing, rows=slice(None)):
 
 def _wrapped_acvf(acvf, torus_shape, spacing):
     values = np.empty(torus_shape, dtype=np.float64)
-    for start in range(0, torus_shape[0], _BLOCK_ROWS):
-        rows = slice(start, min(start + _BLOCK_ROWS, torus_shape[0]))
+    block_rows = max(1, _BLOCK_POINTS // int(np.prod(torus_shape[1:], dtype=np.int64)))
+    for start in range(0, torus_shape[0], block_rows):
+        rows = slice(start, min(start + block_rows, torus_shape[0]))
         values[rows] = acvf(wrapped_lags(torus_shape, spacing, rows))
     if not np.all(np.isfinite(values)):
         raise ValueError("kernel returned non-finite covariances on the embedding torus")
@@ -97,14 +99,19 @@ def _outer_level(base):
 
 
 def _eigenvalues(acvf, torus_shape, spacing):
-    """Eigenvalues of the circulant matrix, r(0), and the ACVF level on the torus' outer half."""
+    """Eigenvalues of the circulant matrix, r(0), the ACVF level on the torus' outer half, and
+    the rounding level of the eigenvalues relative to r(0): an FFT of M values computes each
+    output to about ``eps * log2(M) * sum|c|``, so a negative eigenvalue of that size is
+    rounding, not indefiniteness (it matters on large tori of slowly decaying ACVFs)."""
     base = _wrapped_acvf(acvf, torus_shape, spacing)
     variance = float(base.flat[0])
     if variance <= 0:
         raise ValueError(f"the ACVF at lag 0 must be > 0, got {variance}")
     outer = _outer_level(base)
+    rounding = (np.finfo(np.float64).eps * max(math.log2(base.size), 1.0)
+                * float(np.abs(base).sum()) / variance)
     eig = scipy.fft.fftn(base, workers=-1, overwrite_x=True).real
-    return eig, variance, outer
+    return eig, variance, outer, rounding
 
 
 def _boundary_level(acvf, torus_shape, spacing, axis):
@@ -154,8 +161,11 @@ def embed(acvf, shape, spacing=1.0, *, tolerance=1e-10, approximate=False,
     """Find a circulant embedding of the grid covariance of ``acvf``.
 
     Starts from :func:`predict_torus` (the minimal torus grown until the ACVF on each wrap
-    boundary is below ``boundary_level`` x r(0)), then checks the eigenvalues and grows the axis with the larger boundary value by
-    25 % until the most negative eigenvalue is >= -``tolerance`` x r(0).
+    boundary is below ``boundary_level`` x r(0)), then checks the eigenvalues and grows the
+    axis with the larger boundary value by 25 % until the most negative eigenvalue is
+    >= -``tolerance`` x r(0). On a large torus the FFT's own rounding (about
+    ``eps * log2(M) * sum|c| / r(0)``, which grows with M) replaces ``tolerance`` when it is
+    larger.
 
     With ``approximate=True`` the torus is instead grown only until the negative eigenvalues
     hold less than ``max_clipped_fraction`` of the trace; they are then set to zero and
@@ -177,12 +187,14 @@ def embed(acvf, shape, spacing=1.0, *, tolerance=1e-10, approximate=False,
     tries = []
     while True:
         torus_shape = tuple(torus)
-        eig, variance, outer_level = _eigenvalues(acvf, torus_shape, spacing)
+        eig, variance, outer_level, rounding = _eigenvalues(acvf, torus_shape, spacing)
         min_rel = float(eig.min() / variance)
-        significant = eig < -tolerance * variance  # smaller ones are rounding, in both modes
+        tolerance_here = max(tolerance, rounding)
+        significant = eig < -tolerance_here * variance  # smaller ones are rounding, both modes
         negative_share = float(-eig[significant].sum() / eig.sum())
         tries.append((torus_shape, min_rel))
-        done = (negative_share < max_clipped_fraction) if approximate else (min_rel >= -tolerance)
+        done = ((negative_share < max_clipped_fraction) if approximate
+                else (min_rel >= -tolerance_here))
         if done:
             clipped = negative_share if approximate else 0.0
             scale = np.sqrt(np.clip(eig, 0.0, None) / eig.size)

@@ -24,7 +24,8 @@ import pytest
 from scipy import stats
 
 from roughgp import circulant, sampling
-from roughgp.kernels import AdditiveKernel, MaternKernel, RotatedExponentialKernel
+from roughgp.kernels import (AdditiveKernel, MaternKernel, RotatedExponentialKernel,
+                             SpectralMixtureKernel)
 from roughgp.sampling import choose_method, grid_covariance, sample_grid
 
 PI = math.pi
@@ -473,3 +474,34 @@ def test_bad_spacing_and_kernel_errors():
         sample_grid(_exp1d(2.0), (12,), spacing=0.0)
     with pytest.raises(ValueError, match="kernel"):
         sample_grid(42, (12,))
+
+
+def test_long_profile_embedding_evaluates_the_acvf_in_large_blocks():
+    """A 1-D torus of millions of points is evaluated in blocks of about 2**20 points, not one
+    call per point-row (which took minutes for a fitted spectral mixture)."""
+    calls = []
+
+    def acvf(lags):
+        calls.append(lags.shape)
+        return np.exp(-np.abs(lags[..., 0]) / 50.0)
+
+    values = circulant._wrapped_acvf(acvf, (3_000_000,), (1.0,))
+    assert len(calls) == 3 and values[0] == 1.0
+    calls.clear()
+    circulant._wrapped_acvf(lambda lags: acvf(lags), (600, 4000), (1.0, 1.0))
+    assert len(calls) == 3  # 262 rows of 4000 points per block
+
+
+def test_narrow_spectral_lines_of_a_fitted_profile_are_sampled_exactly():
+    """Lines as narrow as fitting.MIN_LINE_WIDTH allows (the turned-profile fits) embed on a
+    finite torus without a spurious not-positive-definite error."""
+    from roughgp import fitting
+    n = 8192
+    width = fitting.MIN_LINE_WIDTH / n
+    kernel = SpectralMixtureKernel(3, dim=1, weights=[7.3, 0.7, 0.14],
+                                   means=[[1 / 250.0], [1e-6], [2 / 250.0]],
+                                   variances=[[width ** 2], [(70 / n) ** 2], [width ** 2]])
+    z, info = sampling.sample_grid(kernel, (n,), n_samples=2, seed=1, method="circulant",
+                                   return_info=True)
+    assert z.shape == (2, n) and np.all(np.isfinite(z))
+    assert info.clipped_fraction == 0.0 and info.torus_shape[0] < 100 * n
