@@ -42,7 +42,7 @@ __all__ = [
     "LogUniform", "LogNormal", "Uniform", "UniformAngle", "Parameter", "PosteriorModel",
     "PosteriorSamples", "ShortChainError", "profile_likelihood", "grid_likelihood",
     "spectral_mixture_profile_model", "ground_patch_model", "sample_posterior",
-    "MAX_GRID_POINTS",
+    "maximum_a_posteriori", "order_lengthscales", "MAX_GRID_POINTS",
 ]
 
 MAX_GRID_POINTS = 4096
@@ -448,6 +448,50 @@ def ground_patch_model(z, spacing=1.0, *, priors: Mapping | None = None) -> Post
 
     params = tuple(Parameter(n, prior) for n, prior in chosen.items())
     return PosteriorModel(params, grid_likelihood(z, sp, kernel_factory))
+
+
+def order_lengthscales(samples: Mapping, period: float = math.pi) -> dict:
+    r"""Samples of eq 18 with :math:`\lambda_a \ge \lambda_b`: where a draw has
+    :math:`\lambda_a < \lambda_b`, swap the two and turn the angle by a quarter turn,
+    :math:`(\lambda_a, \lambda_b, \phi) \to (\lambda_b, \lambda_a, \phi + \pi/2)`, which
+    is the same ACVF. Removes the mirrored mode of :func:`ground_patch_model`'s posterior.
+
+    Args:
+        samples: dict with ``"lambda_a"``, ``"lambda_b"`` and ``"angle"`` arrays (others are
+            copied unchanged), e.g. :attr:`PosteriorSamples.samples`.
+        period: of the angle (pi for eq 18); angles are wrapped into ``[-period/2, period/2)``.
+
+    Returns:
+        a new dict.
+    """
+    for name in ("lambda_a", "lambda_b", "angle"):
+        if name not in samples:
+            raise ValueError(f"samples must hold {name!r}, got {sorted(samples)}")
+    out = {k: np.array(v, dtype=np.float64, copy=True) for k, v in samples.items()}
+    swap = out["lambda_a"] < out["lambda_b"]
+    out["lambda_a"][swap], out["lambda_b"][swap] = (out["lambda_b"][swap],
+                                                    np.asarray(samples["lambda_a"])[swap])
+    angle = out["angle"] + np.where(swap, period / 2, 0.0)
+    out["angle"] = (angle + period / 2) % period - period / 2
+    return out
+
+
+def maximum_a_posteriori(model: "PosteriorModel", initial: Mapping, *, maxiter=5000) -> dict:
+    """The posterior mode of ``model`` near ``initial`` (natural units), by Nelder-Mead in
+    the unconstrained u: the optimum around which :func:`sample_posterior` starts its
+    walkers (section 2.2's "optimized by maximizing", with the priors included).
+
+    Returns:
+        dict name -> value (natural units).
+    """
+    from scipy import optimize
+
+    u0 = model.to_unconstrained(initial)
+    if not math.isfinite(model.log_posterior(u0)):
+        raise ValueError(f"initial has zero posterior density: {dict(initial)!r}")
+    result = optimize.minimize(lambda u: -model.log_posterior(u), u0, method="Nelder-Mead",
+                               options={"maxiter": int(maxiter), "xatol": 1e-6, "fatol": 1e-8})
+    return model.to_natural(result.x)
 
 
 # ------------------------------------------------------------------ sampling

@@ -11,6 +11,7 @@ from roughgp.posterior import (
     MAX_GRID_POINTS, LogNormal, LogUniform, Parameter, PosteriorModel, PosteriorSamples,
     ShortChainError, Uniform, UniformAngle, ground_patch_model, grid_likelihood,
     profile_likelihood, sample_posterior, spectral_mixture_profile_model)
+from roughgp import posterior
 from roughgp.sampling import sample_grid
 
 try:  # the dense Cholesky of a small patch: one BLAS thread (2-thread OpenBLAS on a loaded
@@ -340,3 +341,38 @@ def test_spectral_mixture_profile_model():
     assert math.isfinite(model.log_posterior(model.to_unconstrained(params)))
     # mu beyond the Nyquist frequency (1 / (2 * 0.5) = 1) is outside the prior
     assert model.log_posterior(model.to_unconstrained({**params, "mu_1": 1.2})) == -np.inf
+
+
+def test_order_lengthscales_maps_the_mirrored_mode_onto_the_same_acvf():
+    from roughgp import acvf as acvf_module
+    samples = {"lambda_a": np.array([1.0, 5.0]), "lambda_b": np.array([4.0, 2.0]),
+               "angle": np.array([0.3, -0.2]), "variance": np.array([2.0, 3.0])}
+    ordered = posterior.order_lengthscales(samples)
+    assert np.all(ordered["lambda_a"] >= ordered["lambda_b"])
+    assert ordered["lambda_a"][0] == 4.0 and ordered["lambda_b"][0] == 1.0
+    assert ordered["angle"][0] == pytest.approx(0.3 + math.pi / 2 - math.pi)  # wrapped
+    assert ordered["angle"][1] == pytest.approx(-0.2, abs=1e-15)
+    assert np.array_equal(ordered["variance"], samples["variance"])
+    assert samples["lambda_a"][0] == 1.0  # the input is not modified
+    lags = np.random.default_rng(0).normal(size=(50, 2))
+    for k in range(2):
+        before = acvf_module.rotated_exponential(lags, 1.0, np.array(
+            [samples["lambda_a"][k], samples["lambda_b"][k]]), samples["angle"][k])
+        after = acvf_module.rotated_exponential(lags, 1.0, np.array(
+            [ordered["lambda_a"][k], ordered["lambda_b"][k]]), ordered["angle"][k])
+        assert np.allclose(before, after)
+    with pytest.raises(ValueError, match="angle"):
+        posterior.order_lengthscales({"lambda_a": [1.0], "lambda_b": [2.0]})
+
+
+def test_maximum_a_posteriori_of_white_noise_is_the_analytic_mode():
+    # eq 11 with a log-uniform prior: posterior of s2 is InvGamma(n/2, S/2); in u = log s2 the
+    # density is InvGamma(s2) * s2, whose mode is at s2 = S / n
+    z = np.random.default_rng(3).standard_normal(40) * 1.7
+    model = posterior.PosteriorModel(
+        (posterior.Parameter("noise_variance", posterior.LogUniform(1e-4, 1e4)),),
+        posterior.profile_likelihood(z, 1.0, lambda p, lags: np.zeros(lags.shape)))
+    mode = posterior.maximum_a_posteriori(model, {"noise_variance": 1.0})
+    assert mode["noise_variance"] == pytest.approx(np.sum(z * z) / z.size, rel=1e-4)
+    with pytest.raises(ValueError, match="initial"):
+        posterior.maximum_a_posteriori(model, {"noise_variance": 1e6})
