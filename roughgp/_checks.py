@@ -58,6 +58,13 @@ def check_lags(name: str, lags, dim: int) -> None:
     check_finite(name, arr)
 
 
+def check_integer(name: str, value, minimum: int) -> int:
+    """``value`` as an int; raise unless it is an integer (not a bool) >= ``minimum``."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
+        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
+    return int(value)
+
+
 def as_generator(seed) -> np.random.Generator:
     """The numpy Generator of a ``seed``: an int >= 0 (the same int gives the same draws),
     None (fresh entropy) or a Generator (used as is, so calls can share one stream)."""

@@ -33,6 +33,7 @@ import numpy as np
 from scipy.signal import lfilter
 
 from roughgp._checks import as_generator as _rng
+from roughgp._checks import check_integer as _int
 from roughgp.toeplitz import toeplitz_log_likelihood
 
 __all__ = [
@@ -49,12 +50,6 @@ _MAX_BURN_IN = 2**24
 
 
 # ---------------------------------------------------------------------------- checks
-
-def _int(name, value, minimum):
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    return int(value)
-
 
 def _float_array(name, value):
     try:

@@ -44,7 +44,7 @@ import math
 
 import numpy as np
 
-from roughgp._checks import as_generator, check_nonnegative, check_positive
+from roughgp._checks import as_generator, check_integer, check_nonnegative, check_positive
 from roughgp.grid import normalize
 
 __all__ = ["TurnedParameters", "RUBERT_LIKE", "kinematic_rt", "kinematic_profile",
@@ -84,11 +84,7 @@ class TurnedParameters:
     lay_lengthscale: float = 150.0
 
     def __post_init__(self):
-        check_positive("feed", self.feed)
-        check_positive("nose_radius", self.nose_radius)
-        if not self.nose_radius > self.feed / 2:
-            raise ValueError(f"nose_radius must be > feed / 2 = {self.feed / 2:g} (a circular "
-                             f"nose cannot cut a wider feed mark), got {self.nose_radius!r}")
+        kinematic_rt(self.feed, self.nose_radius)  # checks feed > 0 and nose_radius > feed / 2
         for name in ("feed_jitter", "depth_jitter", "edge_roughness", "flow_roughness",
                      "noise_sd"):
             check_nonnegative(name, getattr(self, name))
@@ -105,18 +101,19 @@ class TurnedParameters:
         return kinematic_rt(self.feed, self.nose_radius)
 
 
-#: The chapters' default: a coarse turned finish (f = 250 um, r = 800 um), 1 um sampling.
-RUBERT_LIKE = TurnedParameters()
-
-
 def kinematic_rt(feed, nose_radius):
     r"""Peak-to-valley height of the ideal turned profile, :math:`r - \sqrt{r^2 - f^2/4}`
     (about :math:`f^2 / (8r)` for :math:`f \ll r`)."""
     check_positive("feed", feed)
     check_positive("nose_radius", nose_radius)
     if not nose_radius > feed / 2:
-        raise ValueError(f"nose_radius must be > feed / 2 = {feed / 2:g}, got {nose_radius!r}")
+        raise ValueError(f"nose_radius must be > feed / 2 = {feed / 2:g} (a circular nose "
+                         f"cannot cut a wider feed mark), got {nose_radius!r}")
     return nose_radius - math.sqrt(nose_radius ** 2 - feed ** 2 / 4)
+
+
+#: The chapters' default: a coarse turned finish (f = 250 um, r = 800 um), 1 um sampling.
+RUBERT_LIKE = TurnedParameters()
 
 
 def _arc(u, radius):
@@ -221,9 +218,7 @@ def turned_profile(n=8192, spacing=1.0, params=RUBERT_LIKE, *, seed=None):
     Returns:
         ``(x, z)``: positions from 0 and heights, shape (n,) each, micrometres.
     """
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 16:
-        raise ValueError(f"n must be an integer >= 16, got {n!r}")
-    (n,), (spacing,) = normalize((int(n),), spacing)
+    (n,), (spacing,) = normalize((check_integer("n", n, 16),), spacing)
     if not isinstance(params, TurnedParameters):
         raise ValueError(f"params must be a TurnedParameters, got {type(params).__name__}")
     rng = as_generator(seed)

@@ -28,7 +28,7 @@ import numpy as np
 from scipy import optimize
 
 from roughgp import spectral
-from roughgp._checks import as_generator, check_finite
+from roughgp._checks import as_generator, check_finite, check_integer
 from roughgp.toeplitz import _toeplitz_core, toeplitz_log_likelihood
 
 __all__ = ["toeplitz_log_likelihood", "spectral_mixture_log_likelihood",
@@ -303,12 +303,6 @@ class SpectralMixtureFit:
 
 # ------------------------------------------------------------------ the fit
 
-def _positive_int(name, value, minimum):
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    return int(value)
-
-
 def fit_spectral_mixture(x, z, num_mixtures, *, n_candidates=10, n_optimise=3, seed=None,
                          noise_fraction=0.1, n_draws=2000, welch_segment=None, maxiter=200,
                          screen_iter=30, min_noise_fraction=1e-6):
@@ -359,15 +353,15 @@ def fit_spectral_mixture(x, z, num_mixtures, *, n_candidates=10, n_optimise=3, s
         :class:`SpectralMixtureFit`.
     """
     x, z, spacing = _check_profile(x, z)
-    q = _positive_int("num_mixtures", num_mixtures, 1)
-    n_candidates = _positive_int("n_candidates", n_candidates, 1)
-    n_optimise = _positive_int("n_optimise", n_optimise, 1)
+    q = check_integer("num_mixtures", num_mixtures, 1)
+    n_candidates = check_integer("n_candidates", n_candidates, 1)
+    n_optimise = check_integer("n_optimise", n_optimise, 1)
     if n_optimise > n_candidates:
         raise ValueError(f"n_optimise must be in [1, n_candidates = {n_candidates}], "
                          f"got {n_optimise}")
-    n_draws = _positive_int("n_draws", n_draws, 10)
-    maxiter = _positive_int("maxiter", maxiter, 1)
-    screen_iter = _positive_int("screen_iter", screen_iter, 1)
+    n_draws = check_integer("n_draws", n_draws, 10)
+    maxiter = check_integer("maxiter", maxiter, 1)
+    screen_iter = check_integer("screen_iter", screen_iter, 1)
     if not (isinstance(noise_fraction, (int, float, np.floating)) and 0 <= noise_fraction < 1):
         raise ValueError(f"noise_fraction must be in [0, 1), got {noise_fraction!r}")
     if not (isinstance(min_noise_fraction, (int, float, np.floating))
@@ -376,7 +370,7 @@ def fit_spectral_mixture(x, z, num_mixtures, *, n_candidates=10, n_optimise=3, s
     n = z.size
     if welch_segment is None:
         welch_segment = min(n, max(64, 2 ** int(round(math.log2(n / 8)))))
-    welch_segment = _positive_int("welch_segment", welch_segment, 16)
+    welch_segment = check_integer("welch_segment", welch_segment, 16)
     if welch_segment > n:
         raise ValueError(f"welch_segment must be in [16, n = {n}], got {welch_segment}")
     rng = as_generator(seed)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from roughgp._checks import check_finite, check_positive
+from roughgp._checks import check_finite, check_integer, check_positive
 
 __all__ = ["periodicity", "short_wavelength_share"]
 
@@ -44,8 +44,7 @@ def periodicity(z, period, spacing=1.0, n_periods=5):
     check_positive("period", period)
     check_positive("spacing", spacing)
     n = rows.shape[1]
-    if isinstance(n_periods, bool) or not isinstance(n_periods, (int, np.integer)) or n_periods < 1:
-        raise ValueError(f"n_periods must be an integer >= 1, got {n_periods!r}")
+    n_periods = check_integer("n_periods", n_periods, 1)
     lags = np.rint(np.arange(1, n_periods + 1) * period / spacing).astype(int)
     if lags[-1] >= n:
         raise ValueError(f"n_periods * period = {lags[-1] * spacing:g} must be shorter than the "

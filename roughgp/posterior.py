@@ -33,7 +33,7 @@ from typing import Callable, Mapping
 import numpy as np
 import scipy.linalg
 
-from roughgp._checks import as_generator, check_finite, check_positive
+from roughgp._checks import as_generator, check_finite, check_integer, check_positive
 from roughgp.grid import normalize
 from roughgp.sampling import grid_covariance
 from roughgp.toeplitz import toeplitz_log_likelihood
@@ -609,8 +609,7 @@ def sample_posterior(model: PosteriorModel, *, n_walkers=32, n_steps=2000, seed=
     ndim = len(model.parameters)
     for name, value, low in (("n_walkers", n_walkers, max(2 * ndim, 2)),
                              ("n_steps", n_steps, 2), ("thin", thin, 1)):
-        if not (isinstance(value, (int, np.integer)) and value >= low):
-            raise ValueError(f"{name} must be an integer >= {low}, got {value!r}")
+        check_integer(name, value, low)
     burn_in = n_steps // 4 if burn_in is None else burn_in
     if not (isinstance(burn_in, (int, np.integer)) and 0 <= burn_in < n_steps - 1):
         raise ValueError(f"burn_in must be an integer in [0, n_steps - 1) = [0, {n_steps - 1}),"
