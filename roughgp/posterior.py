@@ -42,7 +42,7 @@ __all__ = [
     "LogUniform", "LogNormal", "Uniform", "UniformAngle", "Parameter", "PosteriorModel",
     "PosteriorSamples", "ShortChainError", "profile_likelihood", "grid_likelihood",
     "spectral_mixture_profile_model", "ground_patch_model", "sample_posterior",
-    "maximum_a_posteriori", "order_lengthscales", "MAX_GRID_POINTS",
+    "maximum_a_posteriori", "order_lengthscales", "main_mode", "MAX_GRID_POINTS",
 ]
 
 MAX_GRID_POINTS = 4096
@@ -510,7 +510,11 @@ class PosteriorSamples:
     over walkers; ``autocorr_time``: dict name -> integrated autocorrelation time in steps
     (emcee, after burn-in); ``n_steps``; ``burn_in``; ``thin``; ``chain``: the whole chain
     (walkers, steps, parameters) in the unconstrained u, burn-in included;
-    ``parameters``: the model's :class:`Parameter` tuple.
+    ``parameters``: the model's :class:`Parameter` tuple; ``walker_log_prob``: the log
+    posterior of the whole chain (walkers, steps); ``walker_acceptance``: the acceptance
+    fraction of each walker; ``walkers``: the indices (into the
+    sampler's walkers) that ``samples`` were drawn from (all of them, unless
+    :func:`main_mode` dropped some).
     """
 
     samples: dict
@@ -522,6 +526,9 @@ class PosteriorSamples:
     thin: int
     chain: np.ndarray
     parameters: tuple
+    walker_log_prob: np.ndarray
+    walker_acceptance: np.ndarray
+    walkers: tuple
 
     def _values(self, name):
         if name not in self.samples:
@@ -625,8 +632,20 @@ def sample_posterior(model: PosteriorModel, *, n_walkers=32, n_steps=2000, seed=
     sampler.random_state = np.random.RandomState(rng.integers(2**32)).get_state()
     sampler.run_mcmc(start, n_steps, progress=progress)
 
-    names = model.names
-    tau = np.atleast_1d(sampler.get_autocorr_time(discard=burn_in, tol=0, quiet=True))
+    return _collect(model.parameters, np.swapaxes(sampler.get_chain(), 0, 1),
+                    sampler.get_log_prob().T, sampler.acceptance_fraction,
+                    tuple(range(n_walkers)), burn_in, thin, min_tau_multiple, allow_short)
+
+
+def _collect(parameters, chain, walker_log_prob, acceptance, walkers, burn_in, thin,
+             min_tau_multiple, allow_short) -> PosteriorSamples:
+    """Autocorrelation check and natural-unit samples of ``chain`` (walkers, steps, ndim)."""
+    import emcee
+
+    names = [p.name for p in parameters]
+    n_steps = chain.shape[1]
+    kept = np.swapaxes(chain[:, burn_in:], 0, 1)                 # (steps, walkers, ndim)
+    tau = np.atleast_1d(emcee.autocorr.integrated_time(kept, tol=0, quiet=True))
     autocorr = {n: float(t) for n, t in zip(names, tau)}
     tau_max = float(np.max(tau))
     if not allow_short and not n_steps >= min_tau_multiple * tau_max:
@@ -635,12 +654,42 @@ def sample_posterior(model: PosteriorModel, *, n_walkers=32, n_steps=2000, seed=
             f"autocorrelation time is {tau_max:.1f} steps ({names[int(np.argmax(tau))]}); "
             f"{min_tau_multiple} x tau needs n_steps >= {math.ceil(min_tau_multiple * tau_max)}"
             f" (or pass allow_short=True)")
-    flat = sampler.get_chain(discard=burn_in, thin=thin, flat=True)
+    flat = kept[thin - 1::thin].reshape(-1, len(names))          # emcee's thinning
     samples = {p.name: np.asarray(p.prior.to_natural(flat[:, j]), dtype=np.float64)
-               for j, p in enumerate(model.parameters)}
+               for j, p in enumerate(parameters)}
     return PosteriorSamples(
-        samples=samples,
-        log_prob=sampler.get_log_prob(discard=burn_in, thin=thin, flat=True),
-        acceptance_fraction=float(np.mean(sampler.acceptance_fraction)),
-        autocorr_time=autocorr, n_steps=int(n_steps), burn_in=int(burn_in), thin=int(thin),
-        chain=np.swapaxes(sampler.get_chain(), 0, 1).copy(), parameters=model.parameters)
+        samples=samples, log_prob=walker_log_prob[:, burn_in:].T[thin - 1::thin].reshape(-1),
+        acceptance_fraction=float(np.mean(acceptance)), autocorr_time=autocorr,
+        n_steps=int(n_steps), burn_in=int(burn_in), thin=int(thin), chain=np.array(chain),
+        parameters=tuple(parameters), walker_log_prob=np.array(walker_log_prob),
+        walker_acceptance=np.array(acceptance, dtype=np.float64),
+        walkers=tuple(int(w) for w in walkers))
+
+
+def main_mode(result: PosteriorSamples, *, max_drop=10.0, min_tau_multiple=50,
+              allow_short=False) -> PosteriorSamples:
+    r"""``result`` from the walkers of its main mode only.
+
+    An ensemble started at an optimum can lose a walker to a competing optimum of a
+    multi-modal posterior (a spectral mixture's line moved to another frequency, say),
+    where the stretch move cannot bring it back: its draws are not from the main mode and
+    it inflates the autocorrelation times. This keeps the walkers whose median log
+    posterior after burn-in is within ``max_drop`` of the best walker's median, and
+    recomputes the samples, the autocorrelation times and the length check
+    (:func:`sample_posterior`'s ``min_tau_multiple`` / ``allow_short``) from them. Say so
+    when reporting: the result is the posterior *restricted to the main mode*.
+
+    Raises:
+        ValueError: ``max_drop`` not > 0, or fewer than two walkers would remain.
+    """
+    if not isinstance(result, PosteriorSamples):
+        raise ValueError(f"result must be a PosteriorSamples, got {type(result).__name__}")
+    check_positive("max_drop", max_drop)
+    level = np.median(result.walker_log_prob[:, result.burn_in:], axis=1)
+    keep = np.flatnonzero(level >= level.max() - max_drop)
+    if keep.size < 2:
+        raise ValueError(f"only {keep.size} walker within max_drop = {max_drop} of the best; "
+                         f"raise max_drop")
+    return _collect(result.parameters, result.chain[keep], result.walker_log_prob[keep],
+                    result.walker_acceptance[keep], tuple(result.walkers[k] for k in keep),
+                    result.burn_in, result.thin, min_tau_multiple, allow_short)

@@ -376,3 +376,54 @@ def test_maximum_a_posteriori_of_white_noise_is_the_analytic_mode():
     assert mode["noise_variance"] == pytest.approx(np.sum(z * z) / z.size, rel=1e-4)
     with pytest.raises(ValueError, match="initial"):
         posterior.maximum_a_posteriori(model, {"noise_variance": 1e6})
+
+
+def _two_mode_result(n_walkers=6, n_steps=400, stray=2, seed=0):
+    """A hand-made chain: every walker draws N(0, 1) around 0 (log posterior -x^2/2)
+    except walker ``stray``, stuck around 10 (log posterior 50 lower)."""
+    rng = np.random.default_rng(seed)
+    chain = rng.standard_normal((n_walkers, n_steps, 1))
+    chain[stray] += 10.0
+    log_prob = -0.5 * chain[:, :, 0] ** 2
+    log_prob[stray] -= 50.0
+    params = (Parameter("a", Uniform(-100.0, 100.0)),)
+    return posterior._collect(params, chain, log_prob, np.full(n_walkers, 0.5),
+                              tuple(range(n_walkers)), 100, 1, 50, True)
+
+
+def test_main_mode_drops_the_stranded_walker():
+    result = _two_mode_result()
+    assert result.walker_log_prob.shape == (6, 400)
+    assert np.mean(result.samples["a"]) > 1.0                    # the stray pulls the mean
+    main = posterior.main_mode(result)
+    assert main.walkers == (0, 1, 3, 4, 5)
+    assert main.samples["a"].shape == (5 * 300,)
+    assert abs(np.mean(main.samples["a"])) < 0.1                 # N(0, 1): 1500 draws
+    assert main.chain.shape == (5, 400, 1)
+    assert main.autocorr_time["a"] < 3                           # independent draws
+    # a loose threshold keeps every walker
+    assert posterior.main_mode(result, max_drop=1000.0).walkers == tuple(range(6))
+
+
+def test_main_mode_checks_its_arguments_and_the_chain_length():
+    result = _two_mode_result()
+    with pytest.raises(ValueError, match="max_drop"):
+        posterior.main_mode(result, max_drop=0.0)
+    with pytest.raises(ValueError, match="result must be a PosteriorSamples"):
+        posterior.main_mode({"a": np.zeros(3)})
+    with pytest.raises(ShortChainError, match="n_steps >= "):
+        posterior.main_mode(result, min_tau_multiple=1000)
+    lonely = _two_mode_result(n_walkers=2, stray=1)
+    with pytest.raises(ValueError, match="only 1 walker"):
+        posterior.main_mode(lonely)
+
+
+def test_main_mode_of_a_real_chain_keeps_samples_consistent(white_noise):
+    _, model = white_noise
+    result = sample_posterior(model, n_walkers=4, n_steps=60, seed=1, burn_in=20, thin=2,
+                              allow_short=True)
+    same = posterior.main_mode(result, max_drop=1e9, allow_short=True)
+    np.testing.assert_array_equal(same.samples["variance"], result.samples["variance"])
+    np.testing.assert_array_equal(same.log_prob, result.log_prob)
+    assert same.autocorr_time == pytest.approx(result.autocorr_time)
+    assert same.acceptance_fraction == pytest.approx(result.acceptance_fraction)
