@@ -1,0 +1,212 @@
+r"""The claims ledger: every checkable claim of the paper, its check, and a verdict.
+
+One :class:`Claim` per quantitative or checkable statement of Jawaid & Seewig: where it is
+(section, equation, figure), the claim in a sentence, the paper's value where there is one,
+the tolerance, the verdict this book reached, and a check (in :mod:`roughgp.claim_checks`)
+that recomputes our value and tests the verdict's condition: for ``reproduced`` that our
+value agrees with the paper's within the tolerance; for ``not reproducible as stated`` that
+the disagreement is still there. :func:`run` runs the checks; an :class:`Outcome` whose
+check no longer holds (or raised) has *regressed*: the verdict must be revisited, and
+``roughgp reproduce`` exits non-zero.
+
+Every check is quick by default (seconds to a minute) and uses the paper's sizes with
+``full=True``. The book's chapter "Claims ledger" renders the same table.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import time
+from pathlib import Path
+from typing import Callable, Iterable
+
+__all__ = ["VERDICTS", "Check", "Claim", "Outcome", "CLAIMS", "claim", "claim_keys", "run",
+           "to_markdown", "to_records", "write"]
+
+VERDICTS = ("reproduced", "reproduced with a different setup", "not reproducible as stated",
+            "not checkable", "beyond the paper")
+"""The verdicts a claim can carry. ``beyond the paper``: a statement of the paper's outlook
+(future work) that the book built and checks."""
+
+
+@dataclasses.dataclass
+class Check:
+    """What a check returns: ``value`` (our value, as text), ``holds`` (whether the verdict's
+    condition holds) and an optional matplotlib ``figure``."""
+
+    value: str
+    holds: bool
+    figure: object = None
+
+
+@dataclasses.dataclass(frozen=True)
+class Claim:
+    """One entry of the ledger.
+
+    ``key``: short id (``"eq5-duality"``); ``where``: section / equation / figure;
+    ``statement``: the claim in a sentence; ``paper_value``: the paper's number ("" if
+    none); ``tolerance``: what counts as agreement; ``verdict``: one of :data:`VERDICTS`;
+    ``why``: the setup that differs, or why it is not reproducible or not checkable;
+    ``chapter``: the book page (file name without extension) that shows the check;
+    ``check``: ``check(full) -> Check``, or None for ``not checkable``.
+    """
+
+    key: str
+    where: str
+    statement: str
+    paper_value: str
+    tolerance: str
+    verdict: str
+    why: str
+    chapter: str
+    check: Callable[[bool], Check] | None
+
+    def __post_init__(self):
+        if self.verdict not in VERDICTS:
+            raise ValueError(f"verdict must be one of {VERDICTS}, got {self.verdict!r}")
+        if (self.check is None) != (self.verdict == "not checkable"):
+            raise ValueError(f"claim {self.key!r}: exactly the 'not checkable' claims have no "
+                             f"check")
+
+
+@dataclasses.dataclass
+class Outcome:
+    """A claim after its check ran: ``value`` (ours), ``holds``, ``seconds``, ``figure``
+    (the path of the saved figure, or None), ``error`` (the exception's text if it raised)."""
+
+    claim: Claim
+    value: str
+    holds: bool
+    seconds: float
+    figure: str | None = None
+    error: str | None = None
+
+    @property
+    def regressed(self) -> bool:
+        """True when the check raised or its condition no longer holds."""
+        return self.error is not None or not self.holds
+
+    @property
+    def status(self) -> str:
+        """``"ok"``, ``"REGRESSED"`` or ``"ERROR"``."""
+        return "ERROR" if self.error is not None else ("REGRESSED" if not self.holds else "ok")
+
+
+def _claims() -> tuple[Claim, ...]:
+    from roughgp.claim_checks import CLAIM_TABLE
+    return tuple(Claim(**entry) for entry in CLAIM_TABLE)
+
+
+CLAIMS: tuple[Claim, ...] = _claims()
+
+
+def claim_keys() -> list[str]:
+    """The keys of :data:`CLAIMS`, in the ledger's order."""
+    return [c.key for c in CLAIMS]
+
+
+def claim(key: str) -> Claim:
+    """The claim with ``key``; a clear error listing the keys otherwise."""
+    for c in CLAIMS:
+        if c.key == key:
+            return c
+    raise ValueError(f"unknown claim {key!r}; the claims are: {', '.join(claim_keys())}")
+
+
+def run(*, full: bool = False, only: Iterable[str] | None = None,
+        figures_dir: str | Path | None = None,
+        progress: Callable[[str], None] | None = None) -> list[Outcome]:
+    """Run the checks of the ledger (all, or the keys in ``only``), in the ledger's order.
+
+    Args:
+        full: the paper's sizes (slower) instead of the quick defaults.
+        only: claim keys to run (each must exist); None runs all.
+        figures_dir: where to save each check's figure as ``KEY.png`` (created); None
+            closes the figures unsaved.
+        progress: called with a line of text before and after each check (e.g. ``print``).
+
+    Returns:
+        the :class:`Outcome` of each claim run. A check that raises becomes an outcome
+        with ``error`` set, so one broken check does not hide the others.
+    """
+    import matplotlib
+    import matplotlib.pyplot as plt
+
+    selected = CLAIMS if only is None else tuple(claim(k) for k in dict.fromkeys(only))
+    if figures_dir is not None:
+        figures_dir = Path(figures_dir)
+        figures_dir.mkdir(parents=True, exist_ok=True)
+    outcomes = []
+    for c in selected:
+        if c.check is None:
+            outcomes.append(Outcome(c, "-", True, 0.0))
+            continue
+        if progress:
+            progress(f"{c.key}: {c.where} ...")
+        start = time.perf_counter()
+        backend = matplotlib.get_backend()
+        try:
+            result = c.check(full)
+            error = None
+        except Exception as exc:  # noqa: BLE001 - reported in the ledger, not swallowed
+            result, error = Check("-", False), f"{type(exc).__name__}: {exc}"
+        seconds = time.perf_counter() - start
+        path = None
+        if result.figure is not None:
+            if figures_dir is not None:
+                path = str(figures_dir / f"{c.key}.png")
+                result.figure.savefig(path, dpi=110)
+            plt.close(result.figure)
+        if matplotlib.get_backend() != backend:  # pragma: no cover - checks never switch
+            matplotlib.use(backend)
+        outcome = Outcome(c, result.value, bool(result.holds), seconds, path, error)
+        outcomes.append(outcome)
+        if progress:
+            progress(f"{c.key}: {outcome.status} ({seconds:.1f} s) {outcome.value}")
+    return outcomes
+
+
+def to_records(outcomes: Iterable[Outcome]) -> list[dict]:
+    """The outcomes as JSON-ready dicts (one per claim)."""
+    out = []
+    for o in outcomes:
+        c = o.claim
+        out.append({"key": c.key, "where": c.where, "claim": c.statement,
+                    "paper_value": c.paper_value, "our_value": o.value,
+                    "tolerance": c.tolerance, "verdict": c.verdict, "why": c.why,
+                    "chapter": c.chapter, "status": o.status, "seconds": round(o.seconds, 2),
+                    "figure": o.figure, "error": o.error})
+    return out
+
+
+def _cell(text: str) -> str:
+    return str(text).replace("|", "\\|").replace("\n", " ")
+
+
+def to_markdown(outcomes: Iterable[Outcome], *, chapter_links: bool = False) -> str:
+    """The ledger as a Markdown table: where, claim, paper, ours, tolerance, verdict (with
+    its reason), status. ``chapter_links``: link each claim's place to its chapter
+    (``CHAPTER.ipynb``, for the book)."""
+    lines = ["| where | claim | paper | ours | tolerance | verdict | status |",
+             "|---|---|---|---|---|---|---|"]
+    for o in outcomes:
+        c = o.claim
+        where = f"[{c.where}]({c.chapter}.ipynb)" if chapter_links and c.chapter else c.where
+        verdict = f"**{c.verdict}**" + (f": {c.why}" if c.why else "")
+        status = o.status if o.error is None else f"ERROR: {o.error}"
+        lines.append("| " + " | ".join(_cell(x) for x in (
+            where, c.statement, c.paper_value or "-", o.value, c.tolerance or "-", verdict,
+            status)) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def write(outcomes: list[Outcome], out_dir: str | Path) -> tuple[Path, Path]:
+    """Write ``ledger.md`` and ``ledger.json`` into ``out_dir`` (created); returns both
+    paths."""
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    md, js = out_dir / "ledger.md", out_dir / "ledger.json"
+    md.write_text("# roughgp claims ledger\n\n" + to_markdown(outcomes), encoding="utf-8")
+    js.write_text(json.dumps(to_records(outcomes), indent=1), encoding="utf-8")
+    return md, js

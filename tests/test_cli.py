@@ -1,0 +1,276 @@
+"""Tests of the ``roughgp`` command (roughgp.cli), run in-process through ``main(argv)``.
+
+Grids are small (ground and honed 16 x 24: the exact Cholesky sampler; turned 32 x 48) and
+the fit uses a 1024-point profile with Q = 2, so the file runs in well under a minute.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from roughgp import claims, readers
+from roughgp.cli import MAX_SIMULATE_POINTS, main
+
+SHAPES = {"ground": (16, 24), "honed": (16, 24), "turned": (32, 48)}
+
+
+def _run(capsys, *argv):
+    """``main(argv)``: returns (exit code, stdout, stderr)."""
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def _simulate(capsys, tmp_path, kind, name, seed=1, shape=None, *extra):
+    ny, nx = shape or SHAPES[kind]
+    path = tmp_path / name
+    code, out, err = _run(capsys, "simulate", kind, "--shape", ny, nx, "--seed", seed,
+                          "--out", path, *extra)
+    assert code == 0, err
+    return path, err
+
+
+def _read_back(path):
+    """The heights of a file written by ``simulate``, read with roughgp.readers."""
+    if path.suffix == ".npy":
+        return np.load(path)
+    if path.suffix == ".x3p":
+        return readers.read_x3p(path).z
+    return readers.read_surface(path, spacing=1.0)[0]
+
+
+# ------------------------------------------------------------------ help, version, script
+
+def test_help_mentions_every_command(capsys):
+    code, out, _ = _run(capsys, "--help")
+    assert code == 0
+    for command in ("reproduce", "simulate", "fit", "texture", "um"):
+        assert command in out
+    for argv in (["reproduce"], ["simulate"], ["simulate", "ground"], ["simulate", "honed"],
+                 ["simulate", "turned"], ["fit"], ["texture"]):
+        code, out, _ = _run(capsys, *argv, "--help")
+        assert code == 0, argv
+        assert "example" in out and "roughgp" in out, argv
+
+
+def test_version(capsys):
+    from roughgp import __version__
+    code, out, _ = _run(capsys, "--version")
+    assert code == 0 and __version__ in out
+
+
+def test_no_command_is_a_usage_error(capsys):
+    code, _, err = _run(capsys)
+    assert code == 2 and "reproduce" in err
+
+
+def test_console_script():
+    script = Path(sys.executable).with_name("roughgp")
+    assert script.exists(), f"{script} missing: pip install -e . creates it"
+    result = subprocess.run([str(script), "--help"], capture_output=True, text=True,
+                            timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert "simulate" in result.stdout and "texture" in result.stdout
+
+
+# ------------------------------------------------------------------ reproduce
+
+def test_reproduce_list(capsys):
+    code, out, _ = _run(capsys, "reproduce", "--list")
+    assert code == 0
+    for key in claims.claim_keys():
+        assert key in out
+
+
+def test_reproduce_one_claim_writes_the_ledger(capsys, tmp_path):
+    expected = claims.run(only=["eq5-duality"])[0]
+    code, out, err = _run(capsys, "reproduce", "--only", "eq5-duality", "--out", tmp_path)
+    assert code == (1 if expected.regressed else 0), err
+    assert "eq5-duality" in out and "eq5-duality" in err  # table and progress
+    assert all(len(line) <= 100 for line in out.splitlines())
+    records = json.loads((tmp_path / "ledger.json").read_text())
+    assert [r["key"] for r in records] == ["eq5-duality"]
+    ledger = (tmp_path / "ledger.md").read_text()
+    assert ledger.startswith("# roughgp claims ledger")
+    assert claims.claim("eq5-duality").where in ledger
+    assert (tmp_path / "figures").is_dir()
+
+
+def test_reproduce_exits_1_and_names_a_regression(capsys, monkeypatch):
+    c = claims.claim("eq5-duality")
+    monkeypatch.setattr(claims, "run", lambda **kw: [claims.Outcome(c, "way off", False, 0.1)])
+    code, out, err = _run(capsys, "reproduce", "--only", "eq5-duality")
+    assert code == 1
+    assert "REGRESSED" in out and "eq5-duality" in err
+
+
+def test_reproduce_unknown_key(capsys):
+    code, _, err = _run(capsys, "reproduce", "--only", "no-such-claim")
+    assert code == 2
+    assert "no-such-claim" in err and "eq5-duality" in err
+    assert "Traceback" not in err
+
+
+# ------------------------------------------------------------------ simulate
+
+@pytest.mark.parametrize("kind", ["ground", "honed", "turned"])
+def test_simulate_each_kind_and_format(capsys, tmp_path, kind):
+    reference = None
+    for ext in (".npy", ".csv", ".x3p"):
+        path, err = _simulate(capsys, tmp_path, kind, f"{kind}{ext}", 5)
+        assert "drawing" in err and "wrote" in err
+        z = _read_back(path)
+        assert z.shape == SHAPES[kind]
+        assert np.all(np.isfinite(z))
+        if reference is None:
+            reference = z
+        else:  # the same seed gives the same surface in every format
+            np.testing.assert_allclose(z, reference, rtol=1e-9, atol=1e-9)
+    if kind == "ground":
+        assert readers.read_x3p(tmp_path / "ground.x3p").spacing == (1.0, 1.0)
+
+
+def test_simulate_seeds(capsys, tmp_path):
+    a, _ = _simulate(capsys, tmp_path, "ground", "a.npy", 3)
+    b, _ = _simulate(capsys, tmp_path, "ground", "b.npy", 3)
+    c, _ = _simulate(capsys, tmp_path, "ground", "c.npy", 4)
+    assert np.array_equal(np.load(a), np.load(b))
+    assert not np.allclose(np.load(a), np.load(c))
+    # without --seed a fresh seed is drawn and printed, so the draw can be repeated
+    code, _, err = _run(capsys, "simulate", "turned", "--shape", 16, 16, "--out",
+                        tmp_path / "d.npy")
+    assert code == 0 and "--seed" in err
+
+
+def test_simulate_options_override_the_preset(capsys, tmp_path):
+    _, err = _simulate(capsys, tmp_path, "ground", "g.npy", 1, None, "--angle-deg", 60,
+                       "--lambda-a", 50, "--variance", 2, "--noise-variance", 0,
+                       "--spacing", 0.5)
+    assert "angle 60 deg" in err and "lambda_a 50 um" in err and "variance 2 um^2" in err
+    _, err = _simulate(capsys, tmp_path, "honed", "h.npy", 1, None,
+                       "--step", 4, 50, 5, 30, "--step", 1, 5, 2, 60)
+    assert "2-step honed" in err and "angle 60 deg" in err
+    _, err = _simulate(capsys, tmp_path, "turned", "t.x3p", 1, None, "--feed", 20,
+                       "--spacing", 0.5)
+    assert "feed 20 um" in err
+    assert readers.read_x3p(tmp_path / "t.x3p").spacing == (0.5, 0.5)
+
+
+def test_simulate_turned_profile(capsys, tmp_path):
+    a, _ = _simulate(capsys, tmp_path, "turned", "a.csv", 2, (1, 300))
+    code, _, err = _run(capsys, "simulate", "turned", "--profile", 300, "--seed", 2, "--out",
+                        tmp_path / "b.npy")
+    assert code == 0, err
+    x, z = readers.read_profile(a)
+    np.testing.assert_allclose(x, np.arange(300.0))
+    np.testing.assert_allclose(z, np.load(tmp_path / "b.npy"), rtol=1e-9, atol=1e-9)
+    code, _, _ = _run(capsys, "simulate", "turned", "--profile", 300, "--out",
+                      tmp_path / "c.x3p")
+    assert code == 0 and readers.read_x3p(tmp_path / "c.x3p").z.shape == (300,)
+
+
+@pytest.mark.parametrize("shape", [(0, 48), (32, -4), (100000, 100000)])
+def test_simulate_refuses_a_bad_shape(capsys, tmp_path, shape):
+    code, _, err = _run(capsys, "simulate", "ground", "--shape", *shape, "--out",
+                        tmp_path / "z.npy")
+    assert code == 2
+    assert "--shape" in err and str(MAX_SIMULATE_POINTS) in err
+    assert "Traceback" not in err and not (tmp_path / "z.npy").exists()
+    if shape[0] == 100000:
+        assert "impossible size" in err
+
+
+def test_simulate_errors(capsys, tmp_path):
+    code, _, err = _run(capsys, "simulate", "ground", "--shape", 8, 8, "--out",
+                        tmp_path / "z.txt")
+    assert code == 2 and ".npy" in err and ".x3p" in err
+    code, _, err = _run(capsys, "simulate", "ground", "--out", tmp_path / "z.npy")
+    assert code == 2 and "--shape" in err
+    # the library's ValueError (a turned surface needs >= 16 points per axis; a bad feed)
+    for extra in (["--shape", 8, 8], ["--shape", 16, 16, "--feed", -3]):
+        code, _, err = _run(capsys, "simulate", "turned", *extra, "--out", tmp_path / "z.npy")
+        assert code == 2 and "error" in err and "Traceback" not in err
+    code, _, err = _run(capsys, "simulate", "ground", "--shape", 8, 8, "--spacing", 0,
+                        "--out", tmp_path / "z.npy")
+    assert code == 2 and "--spacing" in err
+    code, _, err = _run(capsys, "simulate", "ground", "--shape", "8", "x", "--out",
+                        tmp_path / "z.npy")
+    assert code == 2 and "--shape" in err  # argparse's own usage error
+
+
+# ------------------------------------------------------------------ fit
+
+def test_fit_turned_profile(capsys, tmp_path):
+    path, _ = _simulate(capsys, tmp_path, "turned", "profile.csv", 0, (1, 1024))
+    result = tmp_path / "fit.json"
+    code, out, err = _run(capsys, "fit", path, "--mixtures", 2, "--out", result)
+    assert code == 0, err
+    for word in ("weight", "period", "line width", "noise variance",
+                 "log marginal likelihood", "dominant period"):
+        assert word in out
+    fit = json.loads(result.read_text())
+    assert fit["num_mixtures"] == 2 and len(fit["components"]) == 2
+    assert fit["n_points"] == 1024 and fit["spacing_um"] == 1.0
+    assert abs(fit["dominant_period_um"] - 250.0) < 0.02 * 250.0
+    assert np.isfinite(fit["log_marginal_likelihood"])
+
+
+def test_fit_errors(capsys, tmp_path):
+    code, _, err = _run(capsys, "fit", tmp_path / "missing.csv")
+    assert code == 2 and f"no such file: {tmp_path / 'missing.csv'}" in err
+    bad = tmp_path / "bad.csv"
+    bad.write_text("this is not\na profile at all\n")
+    code, _, err = _run(capsys, "fit", bad)
+    assert code == 2 and "bad.csv" in err and "Traceback" not in err
+    ragged = tmp_path / "ragged.csv"
+    ragged.write_text("0,1\n1,2,3\n")
+    code, _, err = _run(capsys, "fit", ragged)
+    assert code == 2 and "line 2" in err
+    notnpy = tmp_path / "x.npy"
+    notnpy.write_text("garbage")
+    code, _, err = _run(capsys, "texture", notnpy)
+    assert code == 2 and "not a .npy file" in err
+    code, _, err = _run(capsys, "texture", ragged, "--spacing", -1)
+    assert code == 2 and "--spacing" in err
+    png = tmp_path / "image.png"
+    png.write_bytes(b"\x89PNG")
+    code, _, err = _run(capsys, "fit", png)
+    assert code == 2 and ".x3p" in err
+
+
+# ------------------------------------------------------------------ texture
+
+def test_texture_of_surfaces_and_a_profile(capsys, tmp_path):
+    npy, _ = _simulate(capsys, tmp_path, "ground", "g.npy", 1)
+    x3p, _ = _simulate(capsys, tmp_path, "ground", "g.x3p", 1)
+    results = []
+    for path in (npy, x3p):
+        out_json = tmp_path / f"{path.suffix[1:]}.json"
+        code, out, err = _run(capsys, "texture", path, "--json", out_json)
+        assert code == 0, err
+        assert "Sq" in out and "Sal" in out and "Std" in out
+        record = json.loads(out_json.read_text(), parse_constant=pytest.fail)
+        results.append(record["parameters"]["Sq"])
+    np.testing.assert_allclose(results[0], results[1], rtol=1e-9)
+    assert results[0] == pytest.approx(np.std(np.load(npy)), rel=1e-9)
+
+    profile, _ = _simulate(capsys, tmp_path, "turned", "p.csv", 1, (1, 600))
+    code, out, err = _run(capsys, "texture", profile, "--level")
+    assert code == 0, err
+    assert "Ra" in out and "RSm" in out and "Sq" not in out
+
+
+def test_texture_flat_surface_prints_nan(capsys, tmp_path):
+    flat = tmp_path / "flat.npy"
+    np.save(flat, np.zeros((8, 8)))
+    code, out, err = _run(capsys, "texture", flat, "--json", tmp_path / "flat.json")
+    assert code == 0, err
+    assert "nan" in out
+    record = json.loads((tmp_path / "flat.json").read_text(), parse_constant=pytest.fail)
+    assert record["parameters"]["Ssk"] is None and record["parameters"]["Sq"] == 0.0
