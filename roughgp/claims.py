@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import Callable, Iterable
 
 __all__ = ["VERDICTS", "Check", "Claim", "Outcome", "CLAIMS", "claim", "claim_keys", "run",
-           "to_markdown", "to_records", "write"]
+           "to_markdown", "to_markdown_details", "to_records", "write"]
 
 VERDICTS = ("reproduced", "reproduced with a different setup", "not reproducible as stated",
             "not checkable", "beyond the paper")
@@ -89,7 +89,10 @@ class Outcome:
 
     @property
     def status(self) -> str:
-        """``"ok"``, ``"REGRESSED"`` or ``"ERROR"``."""
+        """``"ok"``, ``"REGRESSED"``, ``"ERROR"``, or ``"not run"`` (no check: not
+        checkable)."""
+        if self.claim.check is None:
+            return "not run"
         return "ERROR" if self.error is not None else ("REGRESSED" if not self.holds else "ok")
 
 
@@ -184,21 +187,49 @@ def _cell(text: str) -> str:
     return str(text).replace("|", "\\|").replace("\n", " ")
 
 
-def to_markdown(outcomes: Iterable[Outcome], *, chapter_links: bool = False) -> str:
+def _where(c: Claim, chapter_links: bool) -> str:
+    return f"[{c.where}]({c.chapter}.ipynb)" if chapter_links and c.chapter else c.where
+
+
+def to_markdown(outcomes: Iterable[Outcome], *, chapter_links: bool = False,
+                summary: bool = False) -> str:
     """The ledger as a Markdown table: where, claim, paper, ours, tolerance, verdict (with
-    its reason), status. ``chapter_links``: link each claim's place to its chapter
-    (``CHAPTER.ipynb``, for the book)."""
-    lines = ["| where | claim | paper | ours | tolerance | verdict | status |",
-             "|---|---|---|---|---|---|---|"]
+    its reason), status. ``summary``: only where, claim, verdict and status (narrow enough
+    for a page; :func:`to_markdown_details` gives the rest). ``chapter_links``: link each
+    claim's place to its chapter (``CHAPTER.ipynb``, for the book)."""
+    if summary:
+        lines = ["| where | claim | verdict | status |", "|---|---|---|---|"]
+    else:
+        lines = ["| where | claim | paper | ours | tolerance | verdict | status |",
+                 "|---|---|---|---|---|---|---|"]
     for o in outcomes:
         c = o.claim
-        where = f"[{c.where}]({c.chapter}.ipynb)" if chapter_links and c.chapter else c.where
-        verdict = f"**{c.verdict}**" + (f": {c.why}" if c.why else "")
         status = o.status if o.error is None else f"ERROR: {o.error}"
-        lines.append("| " + " | ".join(_cell(x) for x in (
-            where, c.statement, c.paper_value or "-", o.value, c.tolerance or "-", verdict,
-            status)) + " |")
+        if summary:
+            cells = (_where(c, chapter_links), c.statement, f"**{c.verdict}**", status)
+        else:
+            verdict = f"**{c.verdict}**" + (f": {c.why}" if c.why else "")
+            cells = (_where(c, chapter_links), c.statement, c.paper_value or "-", o.value,
+                     c.tolerance or "-", verdict, status)
+        lines.append("| " + " | ".join(_cell(x) for x in cells) + " |")
     return "\n".join(lines) + "\n"
+
+
+def to_markdown_details(outcomes: Iterable[Outcome], *, chapter_links: bool = False) -> str:
+    """One Markdown paragraph per claim: its place, the claim, the paper's value, ours,
+    the tolerance, the verdict and why, and the time its check took."""
+    blocks = []
+    for o in outcomes:
+        c = o.claim
+        parts = [f"**{_where(c, chapter_links)}** (`{c.key}`): {c.statement}",
+                 f"paper: {c.paper_value or '-'}; ours: {o.value}; tolerance: "
+                 f"{c.tolerance or '-'}",
+                 f"verdict: **{c.verdict}**" + (f", {c.why}" if c.why else "")
+                 + f" ({o.status}, {o.seconds:.1f} s)"]
+        if o.error:
+            parts.append(f"error: {o.error}")
+        blocks.append("\\\n".join(parts))
+    return "\n\n".join(blocks) + "\n"
 
 
 def write(outcomes: list[Outcome], out_dir: str | Path) -> tuple[Path, Path]:

@@ -102,10 +102,14 @@ def test_figures_are_saved_and_tables_written(monkeypatch, tmp_path):
     records = json.loads(js.read_text())
     assert records[0]["key"] == "fake" and records[0]["status"] == "ok"
     assert "(notation.ipynb)" in claims.to_markdown(outcomes, chapter_links=True)
+    short = claims.to_markdown(outcomes, summary=True)
+    assert short.splitlines()[0] == "| where | claim | verdict | status |"
+    details = claims.to_markdown_details(outcomes, chapter_links=True)
+    assert "[Sec 0](notation.ipynb)" in details and "ours: 1.0" in details
     assert plt.get_fignums() == []                            # figures closed
 
 
 def test_not_checkable_claims_do_not_run():
     key = next(c.key for c in CLAIMS if c.verdict == "not checkable")
     (outcome,) = claims.run(only=[key])
-    assert outcome.value == "-" and not outcome.regressed
+    assert outcome.value == "-" and not outcome.regressed and outcome.status == "not run"
