@@ -471,6 +471,28 @@ def check_non_gaussian(full):
                  bool(ok and rms[0] < 0.5 * rms[1]))
 
 
+def check_prescribed(full):
+    """Conclusion, future work [16]: surfaces with predefined roughness parameters. The
+    closed-form inversion of Sq, Sal, Str, Std into eq 18 plus noise (roughgp.targets),
+    then the achieved parameters over several seeds."""
+    from roughgp import targets
+    goal = targets.RoughnessTargets(Sq=0.3, Sal=6.0, Str=0.1, Std=-20.0)
+    noise = goal.Sq ** 2 * 0.1 / 1.1                        # sigma^2 / sigma_k^2 = 1/10
+    h = targets.hyperparameters_for(**goal.as_dict(), noise_variance=noise)
+    n = 20 if full else 5
+    values = targets.achieved_parameters(h, (512, 512), seeds=range(100, 100 + n))
+    summary = targets.summarize(values)
+    sq_mean, sq_sd = targets.sq_prediction(h, (512, 512))
+    ok = bool(np.all(np.abs(values["Sq"] - sq_mean) <= 4 * sq_sd))
+    for k in ("Sal", "Str"):
+        mean, sd = summary[k]
+        ok &= abs(mean - getattr(goal, k)) <= 4 * sd / math.sqrt(n)
+    ok &= abs(targets.direction_difference(summary["Std"][0], goal.Std)) <= 2.0
+    return Check(", ".join(f"{k} {summary[k][0]:.3g} +- {summary[k][1]:.2g} (target "
+                           f"{getattr(goal, k):g})" for k in targets.TARGET_NAMES)
+                 + f" over {n} surfaces of 512 x 512", ok)
+
+
 # ------------------------------------------------------------------ conclusion
 
 def check_long_correlation(full):
@@ -639,6 +661,14 @@ CLAIM_TABLE = [
          why="a Johnson transform of a GP whose ACVF is pre-distorted (Hermite expansion) "
              "gives Ssk = -1.5, Sku = 6 with the target ACVF",
          chapter="non_gaussian", check=check_non_gaussian),
+    dict(key="future-prescribed-parameters", where="Conclusion, future work [16]",
+         statement="Rough surfaces can be simulated with predefined roughness parameters.",
+         paper_value="", tolerance="Sq of every surface within 4 predicted sd; mean Sal, Str "
+                                   "within 4 standard errors; mean Std within 2 deg",
+         verdict="beyond the paper",
+         why="Sq, Sal, Str and Std fix sigma_k^2, lambda_b, lambda_a and phi of eq 18 in "
+             "closed form (given the noise), on fields of at least 5 lambda_a",
+         chapter="prescribed", check=check_prescribed),
     dict(key="measured-data", where="Sec 3.3-3.4, figs 4, 6",
          statement="The fits to the measured Rubert turned profile and surface (confocal "
                    "microscope) give the simulations shown.",

@@ -349,6 +349,75 @@ def _describe(step) -> str:
             f"lambda_b {step.lengthscales[1]:g} um, angle {math.degrees(step.angle):g} deg")
 
 
+def _parse_targets(pairs) -> dict:
+    """``--target KEY=VALUE ...`` as a dict of floats; a usage error names a malformed,
+    repeated, unknown or missing key (the keys are those of roughgp.targets)."""
+    from roughgp.targets import TARGET_NAMES
+    values = {}
+    for pair in pairs:
+        key, sep, text = pair.partition("=")
+        key = key.strip()
+        if not sep or not key:
+            raise UsageError(f"--target takes KEY=VALUE pairs ({', '.join(TARGET_NAMES)}), "
+                             f"got {pair!r}")
+        if key not in TARGET_NAMES:
+            raise UsageError(f"--target: unknown key {key!r}; the keys are "
+                             f"{', '.join(TARGET_NAMES)} (all four required)")
+        if key in values:
+            raise UsageError(f"--target: {key} is given twice")
+        try:
+            values[key] = float(text)
+        except ValueError:
+            raise UsageError(f"--target: {key} must be a number, got {text!r}") from None
+    missing = [k for k in TARGET_NAMES if k not in values]
+    if missing:
+        raise UsageError(f"--target: missing {', '.join(missing)}; all of "
+                         f"{', '.join(f'{k}=...' for k in TARGET_NAMES)} are required")
+    return values
+
+
+def _target_groove(args, shape):
+    """The eq 18 hyperparameters of ``--target`` (the closed form of roughgp.targets)."""
+    from roughgp import targets
+    given = [opt for opt, value in (("--variance", args.variance),
+                                    ("--lambda-a", args.lambda_a),
+                                    ("--lambda-b", args.lambda_b),
+                                    ("--angle-deg", args.angle_deg)) if value is not None]
+    if given:
+        raise UsageError(f"--target sets the hyperparameters itself; drop {', '.join(given)}")
+    if min(shape) < 3:
+        raise UsageError(f"--target prescribes areal parameters: --shape needs at least 3 "
+                         f"points along each axis, got {' x '.join(map(str, shape))}")
+    values = _parse_targets(args.target)
+    try:
+        hyper = targets.hyperparameters_for(**values, noise_variance=args.noise_variance,
+                                            spacing=args.spacing)
+    except ValueError as exc:
+        raise UsageError(f"--target: {exc}") from None
+    _err(f"target Sq {values['Sq']:g} um, Sal {values['Sal']:g} um, Str {values['Str']:g}, "
+         f"Std {values['Std']:g} deg -> hyperparameters (closed form, roughgp.targets): "
+         f"{_describe(hyper.groove)}, noise variance {hyper.noise_variance:g} um^2")
+    short = targets.field_warning(hyper, shape, args.spacing)
+    if short:
+        _err(f"warning: {short}")
+    return hyper.groove, targets.RoughnessTargets(**values)
+
+
+def _report_achieved(z, spacing, wanted) -> None:
+    """The Sq, Sal, Str and Std of the drawn surface against the targets (stderr)."""
+    from roughgp import targets
+    got = targets.measure(z, spacing)
+    units = {"Sq": " um", "Sal": " um", "Str": "", "Std": " deg"}
+    parts = [f"{k} {got[k]:.4g}{units[k]} (target {getattr(wanted, k):g})"
+             for k in targets.TARGET_NAMES]
+    _err("achieved on this surface: " + ", ".join(parts))
+    if any(math.isnan(got[k]) for k in ("Sal", "Str")):
+        _err(f"note: nan: the ACF does not decay to 0.2 within the field in some direction; "
+             f"the grooves (about Sal/Str = {wanted.Sal / wanted.Str:.4g} um long) need a "
+             f"larger --shape")
+    _err("note: one surface scatters about the targets, most in Sal and Str")
+
+
 def _report_sampler(steps, shape, spacing, method) -> None:
     """Say which exact sampler draws each step's ground surfaces (eq 10) and its cost."""
     from roughgp import sampling
@@ -376,8 +445,12 @@ def cmd_simulate(args) -> int:
     what = f"{nx}-point profile" if ny == 1 else f"{ny} x {nx}"
     method = getattr(args, "method", None)
 
+    wanted = None
     if args.kind == "ground":
-        step = _groove(args, surfaces.FIGURE_2)
+        if args.target is not None:
+            step, wanted = _target_groove(args, shape)
+        else:
+            step = _groove(args, surfaces.FIGURE_2)
         label = f"{what} ground {'surface ' if ny > 1 else ''}(eq 18: {_describe(step)}, " \
                 f"noise variance {args.noise_variance:g} um^2)"
         _report_sampler([step], shape, args.spacing, method)
@@ -412,6 +485,8 @@ def cmd_simulate(args) -> int:
     if z.ndim == 2 and z.shape[0] == 1:
         z = z[0]  # one row: a profile along x
     _err(f"drawn in {time.perf_counter() - start:.2f} s; Sq = {np.std(z):.4g} um")
+    if wanted is not None:
+        _report_achieved(z, args.spacing, wanted)
     comment = f"roughgp simulate {args.kind} --seed {seed} --spacing {args.spacing:g}"
     _write(out, z, args.spacing, comment)
     _err(f"wrote {out} ({'profile' if z.ndim == 1 else 'surface'} of shape {z.shape}, heights "
@@ -582,8 +657,18 @@ plus Gaussian noise (eq 8). Default: the hyperparameters of figure 2 (variance 1
 lambda_a 500 um, lambda_b 5 um, angle 30 deg; noise variance 1 um^2, as in the paper);
 each option overrides one of them.
 
-example:
-  roughgp simulate ground --shape 1024 1024 --seed 7 --angle-deg 45 --out ground.npy"""
+With --target Sq=UM Sal=UM Str=RATIO Std=DEG the hyperparameters are chosen instead so that
+the surface has these ISO 25178-2 parameters (beyond the paper; roughgp.targets): the
+closed-form inversion sigma_k^2 = Sq^2 - sigma^2, lambda_b = Sal / ln(5 sigma_k^2 / Sq^2),
+lambda_a = lambda_b / Str, phi = Std, with the noise variance sigma^2 of --noise-variance
+(default 1 um^2: Sq must then exceed 1.118 um; give --noise-variance 0 or a smaller one for
+smoother surfaces). The hyperparameters and the achieved Sq, Sal, Str, Std of the drawn
+surface are printed; give a field several times Sal/Str long, or Str is undefined on it.
+
+examples:
+  roughgp simulate ground --shape 1024 1024 --seed 7 --angle-deg 45 --out ground.npy
+  roughgp simulate ground --target Sq=1.2 Sal=40 Str=0.2 Std=30 --noise-variance 0.13 \\
+      --shape 1024 1024 --seed 1 --out prescribed.x3p"""
 
 _HONED = """\
 A honed surface (section 3.2): per step the minimum of two ground surfaces (eq 18) with
@@ -715,6 +800,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="correlation length across the grooves, um")
     g.add_argument("--angle-deg", type=float, metavar="DEG",
                    help="groove direction phi, degrees counter-clockwise from x")
+    g.add_argument("--target", nargs="+", metavar="KEY=VALUE",
+                   help="prescribe ISO 25178-2 parameters instead of hyperparameters: all of "
+                        "Sq=UM Sal=UM Str=RATIO Std=DEG (see above)")
     g.set_defaults(func=cmd_simulate)
 
     h = kinds.add_parser("honed", parents=[common, grooves], formatter_class=_formatter,

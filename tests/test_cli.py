@@ -204,6 +204,46 @@ def test_simulate_errors(capsys, tmp_path):
     assert code == 2 and "--shape" in err  # argparse's own usage error
 
 
+# ------------------------------------------------------------------ simulate ground --target
+
+def test_simulate_ground_with_target(capsys, tmp_path):
+    from roughgp import targets
+    path, err = _simulate(capsys, tmp_path, "ground", "t.npy", 2, (96, 96), "--target",
+                          "Sq=1.0", "Sal=4", "Str=0.25", "Std=30", "--noise-variance", 0.05)
+    hyper = targets.hyperparameters_for(1.0, 4.0, 0.25, 30.0, noise_variance=0.05)
+    assert f"lambda_a {hyper.lengthscales[0]:g} um" in err
+    assert f"lambda_b {hyper.lengthscales[1]:g} um" in err and "angle 30 deg" in err
+    assert "noise variance 0.05 um^2" in err and "warning" not in err
+    achieved = next(line for line in err.splitlines() if line.startswith("achieved"))
+    for name in ("Sq", "Sal", "Str", "Std"):
+        assert f"{name} " in achieved and "target" in achieved
+    z, _ = targets.simulate_with_targets({"Sq": 1.0, "Sal": 4, "Str": 0.25, "Std": 30},
+                                         (96, 96), seed=2, noise_variance=0.05)
+    np.testing.assert_array_equal(np.load(path), z)
+    measured = targets.measure(z)
+    assert f"Sq {measured['Sq']:.4g} um (target 1)" in achieved
+    assert f"Std {measured['Std']:.4g} deg (target 30)" in achieved
+
+
+@pytest.mark.parametrize("target, extra, message", [
+    (["Sq=1.2", "Sal=40", "Str=0.2"], [], "missing Std"),
+    (["Sq=1.2", "Sal=40", "Str=0.2", "Std=30", "Sa=1"], [], "unknown key 'Sa'"),
+    (["Sq=1.2", "Sal=40", "Str", "Std=30"], [], "KEY=VALUE"),
+    (["Sq=1.2", "Sal=forty", "Str=0.2", "Std=30"], [], "Sal must be a number"),
+    (["Sq=1.2", "Sq=1.3", "Sal=40", "Str=0.2", "Std=30"], [], "Sq is given twice"),
+    (["Sq=1.0", "Sal=40", "Str=0.2", "Std=30"], [], "Sq must be > sqrt(5 noise_variance / 4)"),
+    (["Sq=1.2", "Sal=40", "Str=0", "Std=30"], [], "Str must be in (0, 1]"),
+    (["Sq=1.2", "Sal=-4", "Str=0.2", "Std=30"], [], "Sal must be > 0"),
+    (["Sq=2", "Sal=40", "Str=0.2", "Std=30"], ["--lambda-a", "50"], "drop --lambda-a"),
+])
+def test_simulate_ground_target_errors(capsys, tmp_path, target, extra, message):
+    code, _, err = _run(capsys, "simulate", "ground", "--target", *target, *extra, "--shape",
+                        32, 32, "--seed", 1, "--out", tmp_path / "z.npy")
+    assert code == 2, err
+    assert message in err and "--target" in err and "Traceback" not in err
+    assert not (tmp_path / "z.npy").exists()
+
+
 # ------------------------------------------------------------------ fit
 
 def test_fit_turned_profile(capsys, tmp_path):
