@@ -52,7 +52,7 @@ import scipy.stats
 from roughgp import circulant
 from roughgp._checks import as_generator as _rng
 from roughgp._checks import check_finite, check_positive
-from roughgp.sampling import SamplingInfo, sample_grid
+from roughgp.sampling import SamplingInfo, _acvf_of, sample_grid
 
 __all__ = ["Johnson", "Moments", "johnson_for", "lognormal_kurtosis", "CorrelationMap",
            "correlation_map", "PredistortedACVF", "predistort", "NonGaussianInfo",
@@ -553,16 +553,6 @@ def _zero_lag_value(acvf, dim):
     return float(value)
 
 
-def _as_acvf(target) -> Callable:
-    acvf = getattr(target, "acvf", None)
-    if callable(acvf):
-        return acvf
-    if callable(target):
-        return target
-    raise ValueError(f"target must be a roughgp kernel, a function of lags or an array of "
-                     f"ACVF values, got {type(target).__name__}")
-
-
 class PredistortedACVF:
     r"""The input ACVF :math:`\rho_X(\boldsymbol\tau) = g^{-1}(r(\boldsymbol\tau)/r(0))` as a
     function of lags of shape (..., D): what :func:`roughgp.sampling.sample_grid` takes as its
@@ -574,7 +564,7 @@ class PredistortedACVF:
     """
 
     def __init__(self, target, cmap: CorrelationMap, unattainable="clip"):
-        self.target = _as_acvf(target)
+        self.target = _acvf_of(target, name="target")
         self.cmap = cmap
         self.unattainable = unattainable
         self.n_evaluated = 0
@@ -725,7 +715,7 @@ def non_gaussian_surface(kernel, shape, *, skewness, kurtosis, spacing=1.0, seed
     from roughgp.grid import normalize
 
     shape, spacing = normalize(shape, spacing)
-    acvf = _as_acvf(kernel)
+    acvf = _acvf_of(kernel)
     variance = _zero_lag_value(acvf, len(shape))
     johnson = johnson_for(skewness, kurtosis, variance)
     cmap = correlation_map(johnson, n_terms)

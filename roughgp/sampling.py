@@ -61,13 +61,15 @@ class SamplingInfo:
 _BYTES = 8  # float64
 
 
-def _acvf_of(kernel) -> Callable:
+def _acvf_of(kernel, name="kernel") -> Callable:
+    """The ACVF of a roughgp kernel (its ``acvf``), or ``kernel`` itself if it is a function
+    of lags; ``name``: the argument's name in the error."""
     acvf = getattr(kernel, "acvf", None)
     if callable(acvf):
         return acvf
     if callable(kernel):
         return kernel
-    raise ValueError(f"kernel must be a roughgp StationaryKernel or a function of lags, "
+    raise ValueError(f"{name} must be a roughgp StationaryKernel or a function of lags, "
                      f"got {type(kernel).__name__}")
 
 
