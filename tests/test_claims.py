@@ -13,7 +13,8 @@ from roughgp.claims import CLAIMS, VERDICTS, Check, Claim, Outcome
 QUICK = ["eq5-duality", "fig1-acvf", "sec2.3-ma-finite", "sec2.3-arma-linear",
          "sec2.3-gp-is-arma", "sec2.3-ar-not-gp", "eq16-17-moving-average",
          "conclusion-long-correlation", "sec2.2-sampling",
-         "conclusion-non-gaussian", "future-prescribed-parameters"]
+         "conclusion-non-gaussian", "future-prescribed-parameters",
+         "future-gap-filling"]
 
 
 def test_the_ledger_covers_what_the_issue_asks():
