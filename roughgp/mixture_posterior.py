@@ -10,12 +10,12 @@ parameters can be set against the data's.
 
 from __future__ import annotations
 
-import math
 from typing import Mapping
 
 import numpy as np
 
 from roughgp._checks import as_generator, check_integer, check_positive
+from roughgp.acvf import spectral_mixture
 
 __all__ = ["relabel_components", "component_count", "predictive_profiles"]
 
@@ -97,10 +97,9 @@ def predictive_profiles(samples: Mapping, n_points, spacing=1.0, *, n_draws=100,
     lags = np.arange(n_points) * float(spacing)
     out = np.empty((n_draws, n_points))
     for row, k in enumerate(picks):
-        r = np.zeros(n_points)
-        for i in range(1, q + 1):
-            w, mu, v = (float(np.asarray(samples[f"{name}_{i}"])[k]) for name in ("w", "mu", "v"))
-            r += w * np.cos(2 * math.pi * mu * lags) * np.exp(-2 * math.pi ** 2 * v * lags ** 2)
+        w, mu, v = (np.array([np.asarray(samples[f"{name}_{i}"])[k] for i in range(1, q + 1)],
+                             dtype=np.float64) for name in ("w", "mu", "v"))
+        r = np.asarray(spectral_mixture(lags[:, None], w, mu[:, None], v[:, None]))  # eq 21
         jitter = float(np.asarray(samples["noise_variance"])[k]) if noise else 0.0
         jitter = max(jitter, 1e-10 * r[0])                  # a pure line is singular
         factor = scipy.linalg.cholesky(scipy.linalg.toeplitz(r + jitter * (lags == 0)), lower=True)
