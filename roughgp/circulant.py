@@ -219,11 +219,16 @@ def embed(acvf, shape, spacing=1.0, *, tolerance=1e-10, approximate=False,
                 f"variance is reported), a smaller grid, or method='cholesky'.")
 
 
-def draw(embedding: Embedding, n_samples: int, rng: np.random.Generator, dtype=np.float64):
+def draw(embedding: Embedding, n_samples: int, rng: np.random.Generator, dtype=np.float64,
+         device=None):
     """``n_samples`` draws from an embedding, two per complex FFT; shape (n, *grid_shape).
 
     ``dtype=np.float32`` runs the FFTs in single precision (complex64), halving memory.
+    ``device`` (a ``torch.device``, see :mod:`roughgp.device`) runs the FFTs there with noise
+    from a torch generator on the device seeded from ``rng``; a numpy array is returned.
     """
+    if device is not None:
+        return _draw_on_device(embedding, n_samples, rng, dtype, device)
     complex_dtype = np.complex64 if np.dtype(dtype) == np.float32 else np.complex128
     real_dtype = np.float32 if complex_dtype == np.complex64 else np.float64
     scale = embedding.scale.astype(real_dtype, copy=False)
@@ -238,3 +243,47 @@ def draw(embedding: Embedding, n_samples: int, rng: np.random.Generator, dtype=n
         if k + 1 < n_samples:
             out[k + 1] = field.imag[grid]
     return out
+
+
+_ON_DEVICE: list = []  # (embedding, device, dtype, scale tensor): the last few moved there
+_ON_DEVICE_SIZE = 4
+
+
+def _device_scale(embedding, device, real_dtype):
+    """``embedding.scale`` on ``device`` (kept for the next draws of the same embedding)."""
+    import torch
+
+    for entry in _ON_DEVICE:
+        if entry[0] is embedding and entry[1] == device and entry[2] == real_dtype:
+            return entry[3]
+    scale = torch.as_tensor(embedding.scale, device=device).to(real_dtype)
+    _ON_DEVICE.append((embedding, device, real_dtype, scale))
+    del _ON_DEVICE[:-_ON_DEVICE_SIZE]
+    return scale
+
+
+def _draw_on_device(embedding, n_samples, rng, dtype, device):
+    import torch
+
+    from roughgp.device import check_memory, generator
+
+    real_dtype = torch.float32 if np.dtype(dtype) == np.float32 else torch.float64
+    m = int(np.prod(embedding.torus_shape))
+    item = 4 if real_dtype == torch.float32 else 8
+    # the scale, the complex noise and its FFT, and the draws on the grid
+    check_memory(item * (m + 4 * m + n_samples * int(np.prod(embedding.grid_shape))),
+                 device, f"circulant draws on the torus {embedding.torus_shape}")
+    scale = _device_scale(embedding, device, real_dtype)
+    gen = generator(rng, device)
+    grid = tuple(slice(0, n) for n in embedding.grid_shape)
+    out = torch.empty((n_samples, *embedding.grid_shape), dtype=real_dtype, device=device)
+    dims = tuple(range(len(embedding.torus_shape)))
+    for k in range(0, n_samples, 2):
+        noise = torch.randn((*embedding.torus_shape, 2), generator=gen, dtype=real_dtype,
+                            device=device)
+        noise = torch.view_as_complex(noise) * scale
+        field = torch.fft.fftn(noise, dim=dims)
+        out[k] = field.real[grid]
+        if k + 1 < n_samples:
+            out[k + 1] = field.imag[grid]
+    return out.cpu().numpy()

@@ -444,6 +444,13 @@ def cmd_simulate(args) -> int:
     ny, nx = shape
     what = f"{nx}-point profile" if ny == 1 else f"{ny} x {nx}"
     method = getattr(args, "method", None)
+    device = getattr(args, "device", None)
+    if device is not None:
+        from roughgp.device import resolve
+        try:
+            resolve(device, name="--device")
+        except ValueError as exc:
+            raise UsageError(str(exc)) from None
 
     wanted = None
     if args.kind == "ground":
@@ -456,7 +463,8 @@ def cmd_simulate(args) -> int:
         _report_sampler([step], shape, args.spacing, method)
         draw = lambda: surfaces.ground(shape, **dataclasses.asdict(step),  # noqa: E731
                                        noise_variance=args.noise_variance,
-                                       spacing=args.spacing, seed=seed, method=method)
+                                       spacing=args.spacing, seed=seed, method=method,
+                                       device=device)
     elif args.kind == "honed":
         steps = (tuple(surfaces.GrooveParameters(v, (a, b), math.radians(phi))
                        for v, a, b, phi in args.step) if args.step else surfaces.FIGURE_3)
@@ -465,7 +473,8 @@ def cmd_simulate(args) -> int:
                  + f"; noise variance {args.noise_variance:g} um^2)")
         _report_sampler(steps, shape, args.spacing, method)
         draw = lambda: surfaces.honed(shape, steps, noise_variance=args.noise_variance,  # noqa
-                                      spacing=args.spacing, seed=seed, method=method)
+                                      spacing=args.spacing, seed=seed, method=method,
+                                      device=device)
     else:
         changes = {k: v for k, v in (("feed", args.feed), ("nose_radius", args.nose_radius),
                                      ("noise_sd", args.noise_sd)) if v is not None}
@@ -788,6 +797,10 @@ def build_parser() -> argparse.ArgumentParser:
                               "dense Cholesky factor (small grids) and circulant embedding, "
                               "whose torus must hold the correlation length (about 6000 x "
                               "12000 points for figure 2's lambda_a = 500 um at 1 um)")
+    grooves.add_argument("--device", metavar="DEV",
+                         help="run the sampler's FFTs or factorisation through torch on DEV: "
+                              "cpu, cuda or cuda:N (default: numpy on the CPU); a seed gives "
+                              "other numbers on a device than without")
 
     g = kinds.add_parser("ground", parents=[common, grooves], formatter_class=_formatter,
                          description=_GROUND, help="eq 18 ground surface (figure 2)")

@@ -29,7 +29,8 @@ from scipy import optimize
 
 from roughgp import spectral
 from roughgp._checks import as_generator, check_finite, check_integer
-from roughgp.toeplitz import _toeplitz_core, toeplitz_log_likelihood
+from roughgp.device import resolve as resolve_device
+from roughgp.toeplitz import _dense_core, _toeplitz_core, toeplitz_log_likelihood
 
 __all__ = ["toeplitz_log_likelihood", "spectral_mixture_log_likelihood",
            "fit_spectral_mixture", "SpectralMixtureFit", "Candidate", "MIN_POINTS",
@@ -56,15 +57,19 @@ def _sm_acvf_terms(h, weights, means, variances):
     return np.cos(phase), np.sin(phase), envelope
 
 
-def _sm_loglik_grad(z, weights, means, variances, noise, gradient=True):
+def _sm_loglik_grad(z, weights, means, variances, noise, gradient=True, device=None):
     """Log-likelihood of ``z`` (sample units) and its gradient with respect to
-    (weights, means, variances, noise)."""
+    (weights, means, variances, noise); on ``device`` by the dense route of
+    :mod:`roughgp.toeplitz`."""
     h = np.arange(z.size, dtype=np.float64)
     cos, sin, env = _sm_acvf_terms(h, weights, means, variances)
     ce = cos * env
     r = weights @ ce
     r[0] += noise
-    loglik, g = _toeplitz_core(z, r, gradient)
+    if device is None:
+        loglik, g = _toeplitz_core(z, r, gradient)
+    else:
+        loglik, g = _dense_core(z, r, gradient, device)
     if not gradient:
         return loglik, None
     d_w = ce @ g
@@ -305,7 +310,7 @@ class SpectralMixtureFit:
 
 def fit_spectral_mixture(x, z, num_mixtures, *, n_candidates=10, n_optimise=3, seed=None,
                          noise_fraction=0.1, n_draws=2000, welch_segment=None, maxiter=200,
-                         screen_iter=30, min_noise_fraction=1e-6):
+                         screen_iter=30, min_noise_fraction=1e-6, device=None):
     r"""Fit eq 21 plus white noise to a profile by the procedure of section 3.3.
 
     The sample mean of ``z`` is removed first (a constant, unknown mean estimated by the
@@ -348,6 +353,10 @@ def fit_spectral_mixture(x, z, num_mixtures, *, n_candidates=10, n_optimise=3, s
             screen (>= 1).
         min_noise_fraction: in (0, 1): the floor of the noise variance (a share of the
             variance of z).
+        device: None (the Toeplitz recursion on the CPU) or a torch device such as
+            ``"cuda"``: every likelihood and gradient then comes from the dense route of
+            :mod:`roughgp.toeplitz` on that device (the same numbers; the search itself,
+            L-BFGS-B, stays on the CPU).
 
     Returns:
         :class:`SpectralMixtureFit`.
@@ -374,6 +383,7 @@ def fit_spectral_mixture(x, z, num_mixtures, *, n_candidates=10, n_optimise=3, s
     if welch_segment > n:
         raise ValueError(f"welch_segment must be in [16, n = {n}], got {welch_segment}")
     rng = as_generator(seed)
+    device = resolve_device(device)
 
     mean = float(z.mean())
     scale = float(z.std())
@@ -395,7 +405,8 @@ def fit_spectral_mixture(x, z, num_mixtures, *, n_candidates=10, n_optimise=3, s
     def objective(theta):
         w, mu, var, noise = unpack(theta)
         try:
-            loglik, (d_w, d_mu, d_var, d_noise) = _sm_loglik_grad(zs, w, mu, var, noise)
+            loglik, (d_w, d_mu, d_var, d_noise) = _sm_loglik_grad(zs, w, mu, var, noise,
+                                                                  device=device)
         except np.linalg.LinAlgError:
             return 1e10, np.zeros_like(theta)
         grad = np.concatenate((d_w * w, d_mu * mu, d_var * var, [d_noise * noise]))
@@ -404,7 +415,7 @@ def fit_spectral_mixture(x, z, num_mixtures, *, n_candidates=10, n_optimise=3, s
     def log_ml(theta):
         w, mu, var, noise = unpack(theta)
         try:
-            return _sm_loglik_grad(zs, w, mu, var, noise, gradient=False)[0]
+            return _sm_loglik_grad(zs, w, mu, var, noise, gradient=False, device=device)[0]
         except np.linalg.LinAlgError:
             return -np.inf
 

@@ -45,6 +45,7 @@ import scipy.fft
 
 from roughgp._checks import as_generator, check_integer, check_nonnegative, check_positive
 from roughgp.circulant import wrapped_lags
+from roughgp.device import resolve as resolve_device
 from roughgp.grid import normalize
 from roughgp.sampling import _acvf_of, sample_grid
 
@@ -84,9 +85,11 @@ class ToeplitzOperator:
 
     ``matvec(v)`` for ``v`` of shape ``(..., ny, nx)`` returns ``K v`` on the grid, where ``K``
     is the covariance of the grid points; the torus has ``next_fast_len(2 n)`` points per axis.
+    With a ``device`` (a ``torch.device``, :mod:`roughgp.device`) the spectrum lives there and
+    ``matvec`` takes and returns torch tensors on it.
     """
 
-    def __init__(self, kernel, shape, spacing=1.0):
+    def __init__(self, kernel, shape, spacing=1.0, device=None):
         shape, spacing = normalize(shape, spacing)
         if len(shape) != 2:
             raise ValueError(f"shape must be (ny, nx), got {shape}")
@@ -99,10 +102,21 @@ class ToeplitzOperator:
         if self.variance <= 0:
             raise ValueError(f"the kernel's variance (ACVF at lag 0) must be > 0, "
                              f"got {self.variance}")
-        self.spectrum = scipy.fft.rfft2(base, workers=-1)  # complex: exact circular convolution
+        self.device = device
+        if device is None:
+            self.spectrum = scipy.fft.rfft2(base, workers=-1)  # exact circular convolution
+        else:
+            import torch
+
+            self.spectrum = torch.fft.rfft2(torch.as_tensor(base, device=device))
 
     def _apply(self, values, multiplier):
         ny, nx = self.shape
+        if self.device is not None:
+            import torch
+
+            spec = torch.fft.rfft2(values, s=self.torus) * multiplier
+            return torch.fft.irfft2(spec, s=self.torus)[..., :ny, :nx]
         spec = scipy.fft.rfft2(values, s=self.torus, axes=(-2, -1), workers=-1)
         spec *= multiplier
         return scipy.fft.irfft2(spec, s=self.torus, axes=(-2, -1), workers=-1)[..., :ny, :nx]
@@ -112,7 +126,7 @@ class ToeplitzOperator:
 
     def inverse_torus(self, values, noise_variance):
         """``(C + s2 I)^{-1}`` of the torus operator (eigenvalues clipped at 0), grid part."""
-        denominator = np.maximum(self.spectrum.real, 0.0) + noise_variance
+        denominator = self.spectrum.real.clip(0.0, None) + noise_variance
         return self._apply(values, 1.0 / denominator)
 
 
@@ -122,25 +136,36 @@ def conjugate_gradients(matvec, rhs, *, precondition=None, tol=1e-6, max_iter=10
     ``matvec`` and ``precondition`` act on stacks of right-hand sides (first axis), shaped
     like ``rhs[active]``; only the systems not yet converged are passed on. ``tol`` is a
     scalar or one value per right-hand side; system k stops when ``||r_k|| <= tol_k ||b_k||``.
+    ``rhs`` is a numpy array or a torch tensor (on any device: the stacks stay there, the
+    per-system scalars live on the host).
 
     Returns:
-        ``(x, iterations, converged)``: ``iterations`` per right-hand side, ``converged`` a
-        boolean per right-hand side.
+        ``(x, iterations, converged)``: ``x`` like ``rhs``; ``iterations`` per right-hand
+        side, ``converged`` a boolean per right-hand side (numpy).
     """
     precondition = precondition or (lambda r: r)
+    on_numpy = isinstance(rhs, np.ndarray)
+
+    def per_system(values):  # numpy vector on the host -> shaped to scale a stack
+        values = values.reshape((-1,) + (1,) * (rhs.ndim - 1))
+        return values if on_numpy else rhs.new_tensor(values)
+
+    def sums(a, b):  # per-system inner products, on the host
+        out = (a * b).sum(axis=axes)
+        return out if on_numpy else out.cpu().numpy()
+
     n_rhs = rhs.shape[0]
     axes = tuple(range(1, rhs.ndim))
-    shape1 = (-1,) + (1,) * (rhs.ndim - 1)
-    x = np.zeros_like(rhs)
-    r = rhs.copy()
-    bnorm = np.sqrt(np.sum(rhs**2, axis=axes))
+    x = rhs * 0
+    r = rhs * 1
+    bnorm = np.sqrt(sums(rhs, rhs))
     target = np.broadcast_to(np.asarray(tol, dtype=np.float64), (n_rhs,)) * np.where(
         bnorm > 0, bnorm, 1.0)
-    done = np.sqrt(np.sum(r**2, axis=axes)) <= target
+    done = np.sqrt(sums(r, r)) <= target
     iterations = np.zeros(n_rhs, dtype=int)
     z = precondition(r)
-    p = z.copy()
-    rz = np.sum(r * z, axis=axes)
+    p = z * 1
+    rz = sums(r, z)
     while True:
         active = np.flatnonzero(~done & (iterations < max_iter))
         if active.size == 0:
@@ -148,16 +173,16 @@ def conjugate_gradients(matvec, rhs, *, precondition=None, tol=1e-6, max_iter=10
         iterations[active] += 1
         pa = p[active]
         ap = matvec(pa)
-        pap = np.sum(pa * ap, axis=axes)
-        alpha = rz[active] / np.where(pap > 0, pap, 1.0)
-        x[active] += alpha.reshape(shape1) * pa
-        r[active] -= alpha.reshape(shape1) * ap
+        pap = sums(pa, ap)
+        alpha = per_system(rz[active] / np.where(pap > 0, pap, 1.0))
+        x[active] += alpha * pa
+        r[active] -= alpha * ap
         ra = r[active]
-        done[active] = np.sqrt(np.sum(ra**2, axis=axes)) <= target[active]
+        done[active] = np.sqrt(sums(ra, ra)) <= target[active]
         za = precondition(ra)
-        rz_new = np.sum(ra * za, axis=axes)
-        beta = rz_new / np.where(rz[active] > 0, rz[active], 1.0)
-        p[active] = za + beta.reshape(shape1) * pa
+        rz_new = sums(ra, za)
+        beta = per_system(rz_new / np.where(rz[active] > 0, rz[active], 1.0))
+        p[active] = za + beta * pa
         rz[active] = rz_new
     return x, iterations, done
 
@@ -187,7 +212,7 @@ def _missing_map(z, mask):
 
 def fill_gaps(z, kernel, *, noise_variance, spacing=1.0, mask=None, n_samples=16, seed=None,
               tol=1e-6, sample_tol=1e-3, max_iter=1000,
-              preconditioner="circulant") -> GapFill:
+              preconditioner="circulant", device=None) -> GapFill:
     """Fill the NaN (and ``mask``-ed) points of a height map with the GP posterior mean.
 
     Args:
@@ -207,6 +232,9 @@ def fill_gaps(z, kernel, *, noise_variance, spacing=1.0, mask=None, n_samples=16
             default: ``sd`` carries a Monte Carlo error of ~``1/sqrt(2 n_samples)`` anyway).
         max_iter: CG iteration cap; ``converged`` is False when it is reached.
         preconditioner: ``"circulant"`` (module docstring) or ``None``.
+        device: None (numpy and scipy) or a torch device such as ``"cuda"``
+            (:mod:`roughgp.device`): the FFT products and the CG iterations run there (the
+            prior draws too; their noise then comes from a device generator).
 
     Returns:
         :class:`GapFill`.
@@ -222,9 +250,10 @@ def fill_gaps(z, kernel, *, noise_variance, spacing=1.0, mask=None, n_samples=16
     if preconditioner not in PRECONDITIONERS:
         raise ValueError(f"preconditioner must be one of {PRECONDITIONERS}, "
                          f"got {preconditioner!r}")
+    device = resolve_device(device)
     rng = as_generator(seed)
     shape, spacing = normalize(z.shape, spacing)
-    operator = ToeplitzOperator(kernel, shape, spacing)
+    operator = ToeplitzOperator(kernel, shape, spacing, device)
     observed = ~missing
     weight = observed.astype(np.float64)
 
@@ -234,9 +263,13 @@ def fill_gaps(z, kernel, *, noise_variance, spacing=1.0, mask=None, n_samples=16
     prior = None
     if n_samples:
         prior = sample_grid(kernel, shape, spacing=spacing, n_samples=n_samples,
-                            method="circulant", seed=rng)
+                            method="circulant", seed=rng, device=device)
         noise = np.sqrt(noise_variance) * rng.standard_normal((n_samples, *shape))
         rhs[1:] = -(prior + noise) * weight
+    if device is not None:
+        import torch
+
+        rhs, weight = (torch.as_tensor(a, device=device) for a in (rhs, weight))
 
     def matvec(v):  # (P K P^T + s2 I) v, v zero off the observed points
         return operator.matvec(v) * weight + noise_variance * v
@@ -251,6 +284,8 @@ def fill_gaps(z, kernel, *, noise_variance, spacing=1.0, mask=None, n_samples=16
     alpha, iterations, done = conjugate_gradients(matvec, rhs, precondition=precondition,
                                                   tol=tols, max_iter=max_iter)
     correction = operator.matvec(alpha)
+    if device is not None:
+        correction = correction.cpu().numpy()
     mean = correction[0] + offset
     if n_samples:
         errors = prior + correction[1:]

@@ -34,6 +34,8 @@ import numpy as np
 import scipy.linalg
 
 from roughgp._checks import as_generator, check_finite, check_integer, check_positive
+from roughgp.device import check_memory
+from roughgp.device import resolve as resolve_device
 from roughgp.grid import normalize
 from roughgp.sampling import grid_covariance
 from roughgp.toeplitz import toeplitz_log_likelihood
@@ -296,36 +298,64 @@ def profile_likelihood(z, spacing, acvf_fn: Callable) -> Callable:
     return loglik
 
 
-def _check_patch(z):
+def _check_patch(z, device=None):
     z = np.asarray(z, dtype=np.float64)
     if z.ndim != 2:
         raise ValueError(f"z must be a patch of shape (ny, nx), got shape {z.shape}")
-    if z.size > MAX_GRID_POINTS:
+    if device is None and z.size > MAX_GRID_POINTS:
         raise ValueError(f"z has {z.size} points ({z.shape[0]} x {z.shape[1]}); the dense "
                          f"likelihood allows at most MAX_GRID_POINTS = {MAX_GRID_POINTS} "
-                         f"(use a smaller patch, or a profile with profile_likelihood)")
+                         f"on the CPU (use a smaller patch, a profile with "
+                         f"profile_likelihood, or device='cuda' on a GPU)")
+    if device is not None:
+        # the covariance, its factor and the gather's index, each N x N of 8 bytes
+        check_memory(3 * 8 * z.size**2, device,
+                     f"the dense likelihood of a {z.shape[0]} x {z.shape[1]} patch")
     check_finite("z", z)
     return z
 
 
-def grid_likelihood(z, spacing, kernel_factory: Callable) -> Callable:
-    """Log-likelihood of a small 2-D patch (dense Cholesky): a function of a dict.
+def grid_likelihood(z, spacing, kernel_factory: Callable, *, device=None) -> Callable:
+    """Log-likelihood of a 2-D patch (dense Cholesky, eq 12): a function of a dict.
 
     Args:
-        z: shape (ny, nx), zero mean (used as given), at most :data:`MAX_GRID_POINTS` points.
+        z: shape (ny, nx), zero mean (used as given); on the CPU at most
+            :data:`MAX_GRID_POINTS` points.
         spacing: scalar or ``(dy, dx)``, as in :func:`roughgp.sampling.grid_covariance`.
         kernel_factory: ``kernel_factory(params)`` -> a roughgp kernel or a function of lags
             of shape (..., 2) (the ACVF of eq 10, without noise).
+        device: None (numpy and scipy) or a torch device such as ``"cuda"``
+            (:mod:`roughgp.device`): the covariance is gathered and factorised there, and the
+            patch is limited by the device's memory instead of :data:`MAX_GRID_POINTS`.
 
     Returns:
         ``loglik(params)``: the Gaussian log density of ``z`` with covariance
         ``grid_covariance(kernel, shape, spacing) + params["noise_variance"] * I`` (noise 0
         where absent); a ``ValueError`` where that matrix is not positive definite.
     """
-    z = _check_patch(z)
+    device = resolve_device(device)
+    z = _check_patch(z, device)
     shape, spacing = normalize(z.shape, spacing)
     y = z.reshape(-1)
     const = 0.5 * y.size * _LOG_2PI
+    not_pd = "the covariance of these hyperparameters is not positive definite on this patch"
+
+    if device is not None:
+        import torch
+
+        y_dev = torch.as_tensor(y, device=device)
+
+        def loglik_on_device(params):
+            cov = grid_covariance(kernel_factory(params), shape, spacing, device=device)
+            cov.diagonal().add_(params.get("noise_variance", 0.0))
+            factor, failed = torch.linalg.cholesky_ex(cov)
+            del cov
+            if int(failed):
+                raise ValueError(not_pd)
+            alpha = torch.cholesky_solve(y_dev[:, None], factor)[:, 0]
+            return float(-0.5 * (y_dev @ alpha) - torch.log(factor.diagonal()).sum() - const)
+
+        return loglik_on_device
 
     def loglik(params):
         cov = grid_covariance(kernel_factory(params), shape, spacing)
@@ -333,8 +363,7 @@ def grid_likelihood(z, spacing, kernel_factory: Callable) -> Callable:
         try:
             factor = scipy.linalg.cho_factor(cov, lower=True, check_finite=True)
         except np.linalg.LinAlgError:
-            raise ValueError("the covariance of these hyperparameters is not positive "
-                             "definite on this patch") from None
+            raise ValueError(not_pd) from None
         alpha = scipy.linalg.cho_solve(factor, y, check_finite=False)
         return float(-0.5 * y @ alpha - np.sum(np.log(np.diag(factor[0]))) - const)
 
@@ -410,7 +439,8 @@ def spectral_mixture_profile_model(x, z, q, *, fit=None, width=1.0) -> Posterior
     return PosteriorModel(tuple(params), profile_likelihood(z, dx, acvf_fn), initial)
 
 
-def ground_patch_model(z, spacing=1.0, *, priors: Mapping | None = None) -> PosteriorModel:
+def ground_patch_model(z, spacing=1.0, *, priors: Mapping | None = None,
+                       device=None) -> PosteriorModel:
     r"""Eq 18 plus white noise (eq 8) for a small ground patch ``z`` (ny, nx).
 
     Parameters: ``variance`` (:math:`\sigma_k^2`), ``lambda_a``, ``lambda_b``, ``angle``
@@ -420,11 +450,13 @@ def ground_patch_model(z, spacing=1.0, *, priors: Mapping | None = None) -> Post
     lengthscales log-uniform on ``[d/10, 10 L]``, the angle :class:`UniformAngle`; ``priors``
     (dict name -> prior) replaces any of them. Note :math:`(\lambda_a, \lambda_b, \phi)` and
     :math:`(\lambda_b, \lambda_a, \phi + \pi/2)` give the same ACVF, so the posterior has two
-    mirrored modes unless a prior orders the lengthscales.
+    mirrored modes unless a prior orders the lengthscales. ``device``: where the dense
+    likelihood runs (:func:`grid_likelihood`); a GPU lifts the CPU's patch limit.
     """
     from roughgp import acvf as _acvf
 
-    z = _check_patch(z)
+    device = resolve_device(device)
+    z = _check_patch(z, device)
     shape, sp = normalize(z.shape, spacing)
     z = z - z.mean()
     var = float(np.var(z))
@@ -447,7 +479,7 @@ def ground_patch_model(z, spacing=1.0, *, priors: Mapping | None = None) -> Post
                                                       p["angle"])
 
     params = tuple(Parameter(n, prior) for n, prior in chosen.items())
-    return PosteriorModel(params, grid_likelihood(z, sp, kernel_factory))
+    return PosteriorModel(params, grid_likelihood(z, sp, kernel_factory, device=device))
 
 
 def order_lengthscales(samples: Mapping, period: float = math.pi) -> dict:

@@ -32,6 +32,7 @@ import scipy.linalg
 
 from roughgp import circulant
 from roughgp._checks import as_generator as _rng
+from roughgp.device import resolve as resolve_device
 from roughgp.grid import centred_lags, normalize
 
 __all__ = ["sample_grid", "grid_covariance", "choose_method", "SamplingInfo", "METHODS"]
@@ -80,11 +81,13 @@ def _available_bytes() -> int:
         return 8 * 2**30
 
 
-def grid_covariance(kernel, shape, spacing=1.0):
+def grid_covariance(kernel, shape, spacing=1.0, *, device=None):
     """The covariance matrix R of eq 10 for the grid points in row-major order, (N, N).
 
     Uses stationarity: the ACVF is evaluated once on the (2n - 1)-point lag grid of each axis
-    and the matrix is gathered from that table, never from an (N, N, D) lag array.
+    and the matrix is gathered from that table, never from an (N, N, D) lag array. With a
+    ``device`` (:mod:`roughgp.device`) the gather runs there and a float64 tensor on that
+    device is returned.
     """
     shape, spacing = normalize(shape, spacing)
     acvf = _acvf_of(kernel)
@@ -92,28 +95,62 @@ def grid_covariance(kernel, shape, spacing=1.0):
                        dtype=np.float64)
     if not np.all(np.isfinite(table)):
         raise ValueError("kernel returned non-finite covariances on this grid")
+    index = covariance_index(shape, device)
+    if device is None:
+        return table.reshape(-1)[index]
+    import torch
+
+    return torch.as_tensor(table.reshape(-1), device=index.device)[index]
+
+
+def covariance_index(shape, device=None):
+    """For a grid of ``shape``: the (N, N) indices of each pair's lag in the flattened
+    (2 ny - 1, 2 nx - 1) lag table of :func:`grid_covariance` (numpy, or a torch int64
+    tensor on ``device``)."""
+    if device is None:
+        arange = np.arange
+    else:
+        import torch
+
+        def arange(n):
+            return torch.arange(n, device=device)
+    n_points = int(np.prod(shape))
     if len(shape) == 1:
         (n,) = shape
-        i = np.arange(n)
-        return table[i[None, :] - i[:, None] + n - 1]
+        i = arange(n)
+        return i[None, :] - i[:, None] + n - 1
     ny, nx = shape
-    iy, ix = np.arange(ny), np.arange(nx)
+    iy, ix = arange(ny), arange(nx)
     dy = (iy[None, :] - iy[:, None] + ny - 1)[:, None, :, None]
     dx = (ix[None, :] - ix[:, None] + nx - 1)[None, :, None, :]
-    return table[dy, dx].reshape(ny * nx, ny * nx)
+    return (dy * (2 * nx - 1) + dx).reshape(n_points, n_points)
 
 
 def _cholesky_factor(covariance):
     """Lower Cholesky factor and the relative jitter used: the smallest diagonal jitter
     (0, then 1e-12 .. 1e-6 of the mean variance) that makes a numerically semi-definite
-    matrix factorisable, with a warning naming the jitter when one was needed."""
-    scale = float(np.mean(np.diag(covariance)))
+    matrix factorisable, with a warning naming the jitter when one was needed. ``covariance``
+    is a numpy array or a torch tensor (factorised where it lies)."""
+    on_torch = not isinstance(covariance, np.ndarray)
+    scale = float(covariance.diagonal().mean())
     for rel in (0.0, 1e-12, 1e-10, 1e-8, 1e-6):
-        try:
-            a = covariance + rel * scale * np.eye(len(covariance)) if rel else covariance
-            factor = scipy.linalg.cholesky(a, lower=True, check_finite=False)
-        except np.linalg.LinAlgError:
-            continue
+        if on_torch:
+            import torch
+
+            a = covariance
+            if rel:
+                a = covariance.clone()
+                a.diagonal().add_(rel * scale)
+            factor, failed = torch.linalg.cholesky_ex(a)
+            del a
+            if int(failed):
+                continue
+        else:
+            try:
+                a = covariance + rel * scale * np.eye(len(covariance)) if rel else covariance
+                factor = scipy.linalg.cholesky(a, lower=True, check_finite=False)
+            except np.linalg.LinAlgError:
+                continue
         if rel:
             warnings.warn(f"covariance needed a diagonal jitter of {rel:g} x the mean variance "
                           f"to factorise", stacklevel=4)
@@ -123,9 +160,15 @@ def _cholesky_factor(covariance):
                      "on this grid")
 
 
-def _check_dense_memory(shape, method, copies=2):
+def _check_dense_memory(shape, method, copies=2, device=None):
     n_points = int(np.prod(shape))
     needed = copies * n_points**2 * _BYTES
+    if device is not None:
+        from roughgp.device import check_memory
+
+        check_memory(needed, device, f"method={method!r} on shape {shape} (a dense "
+                                     f"{n_points} x {n_points} covariance)")
+        return
     available = _available_bytes()
     if needed > 0.8 * available:
         raise ValueError(f"method={method!r} on shape {shape} needs a dense {n_points} x "
@@ -134,14 +177,20 @@ def _check_dense_memory(shape, method, copies=2):
                          f"smaller grid")
 
 
-def _draw_cholesky(kernel, shape, spacing, n_samples, rng, info):
-    _check_dense_memory(shape, "cholesky")
-    factor, info.jitter = _cholesky_factor(grid_covariance(kernel, shape, spacing))
-    noise = rng.standard_normal((factor.shape[0], n_samples))
+def _draw_cholesky(kernel, shape, spacing, n_samples, rng, info, device=None):
+    _check_dense_memory(shape, "cholesky", copies=2 if device is None else 3, device=device)
+    factor, info.jitter = _cholesky_factor(grid_covariance(kernel, shape, spacing,
+                                                           device=device))
+    noise = rng.standard_normal((factor.shape[0], n_samples))  # numpy on every device
+    if device is not None:
+        import torch
+
+        noise = torch.from_numpy(noise).to(device)
+        return (factor @ noise).T.reshape((n_samples, *shape)).cpu().numpy()
     return (factor @ noise).T.reshape((n_samples, *shape))
 
 
-def _draw_lanczos(kernel, shape, spacing, n_samples, rng, info, rank):
+def _draw_lanczos(kernel, shape, spacing, n_samples, rng, info, rank, device=None):
     import torch
     from linear_operator.utils import lanczos
 
@@ -149,12 +198,13 @@ def _draw_lanczos(kernel, shape, spacing, n_samples, rng, info, rank):
     if not isinstance(rank, (int, np.integer)) or not 1 <= rank <= n_points:
         raise ValueError(f"rank must be an integer in [1, {n_points}] (the number of grid "
                          f"points), got {rank!r}")
-    _check_dense_memory(shape, "lanczos", copies=1)
-    covariance = torch.from_numpy(grid_covariance(kernel, shape, spacing))
+    _check_dense_memory(shape, "lanczos", copies=1 if device is None else 2, device=device)
+    device = device or torch.device("cpu")
+    covariance = grid_covariance(kernel, shape, spacing, device=device)
     # The steps of linear_operator's RootDecomposition (what GPyTorch's rsample runs beyond
     # max_cholesky_size), with the Lanczos start vector drawn from our seed, not torch's
     # global generator: Q T Q^T ~ R, root = Q V sqrt(D) with T = V D V^T.
-    start = torch.from_numpy(rng.standard_normal((n_points, 1)))
+    start = torch.from_numpy(rng.standard_normal((n_points, 1))).to(device)
     q_mat, t_mat = lanczos.lanczos_tridiag(covariance.matmul, int(rank), dtype=torch.float64,
                                            device=covariance.device,
                                            matrix_shape=covariance.shape, init_vecs=start)
@@ -162,6 +212,10 @@ def _draw_lanczos(kernel, shape, spacing, n_samples, rng, info, rank):
     # Ritz values lie in [lambda_min, lambda_max]: a clearly negative one proves the
     # covariance indefinite, which clamping would hide
     eigenvalues, eigenvectors = torch.linalg.eigh(t_mat)
+    # an eigenvector's sign is arbitrary and differs between LAPACK and cuSOLVER: fix it (the
+    # largest entry positive) so a seed gives the same draw on every device
+    largest = eigenvectors.gather(0, eigenvectors.abs().argmax(0, keepdim=True))
+    eigenvectors = eigenvectors * torch.where(largest < 0, -1.0, 1.0)
     if float(eigenvalues.min()) < -1e-8 * float(eigenvalues.max()):
         raise ValueError(f"the covariance is not positive semi-definite (a Lanczos Ritz value "
                          f"is {float(eigenvalues.min()):.3g}, the largest "
@@ -170,8 +224,8 @@ def _draw_lanczos(kernel, shape, spacing, n_samples, rng, info, rank):
     root = (q_mat @ eigenvectors) * eigenvalues.clamp_min(0).sqrt().unsqueeze(-2)
     info.kept_trace_fraction = float((root * root).sum() / torch.diagonal(covariance).sum())
     info.details["rank"] = int(root.shape[-1])
-    noise = torch.from_numpy(rng.standard_normal((root.shape[-1], n_samples)))
-    return (root @ noise).T.numpy().reshape((n_samples, *shape))
+    noise = torch.from_numpy(rng.standard_normal((root.shape[-1], n_samples))).to(device)
+    return (root @ noise).T.cpu().numpy().reshape((n_samples, *shape))
 
 
 def _cache_key(kernel, shape, spacing, options):
@@ -199,16 +253,17 @@ def _embedding(kernel, shape, spacing, info, **options):
     return embedding
 
 
-def _draw_circulant(kernel, shape, spacing, n_samples, rng, info, approximate, dtype):
+def _draw_circulant(kernel, shape, spacing, n_samples, rng, info, approximate, dtype,
+                    device=None):
     from roughgp.kernels import AdditiveKernel
 
     if isinstance(kernel, AdditiveKernel) and len(shape) == 2:
         # eq 22: G(x, y) = G_x(x) + G_y(y) with independent profiles, exact in O(N)
         ny, nx = shape
         gx = _draw_circulant(kernel.kernel_x, (nx,), spacing[1:], n_samples, rng, info,
-                             approximate, dtype)
+                             approximate, dtype, device)
         gy = _draw_circulant(kernel.kernel_y, (ny,), spacing[:1], n_samples, rng, info,
-                             approximate, dtype)
+                             approximate, dtype, device)
         info.details["additive"] = True
         return gx[:, None, :] + gy[:, :, None]
     embedding = _embedding(kernel, shape, spacing, info, approximate=approximate)
@@ -219,7 +274,7 @@ def _draw_circulant(kernel, shape, spacing, n_samples, rng, info, approximate, d
         warnings.warn(f"approximate circulant embedding: negative eigenvalues holding "
                       f"{embedding.clipped_fraction:.2e} of the variance were clipped",
                       stacklevel=4)
-    return circulant.draw(embedding, n_samples, rng, dtype=dtype)
+    return circulant.draw(embedding, n_samples, rng, dtype=dtype, device=device)
 
 
 _FLOPS_PER_SECOND = 2e10  # dense linear algebra on the reference 2-core machine
@@ -255,7 +310,7 @@ def choose_method(kernel, shape, spacing=1.0, n_samples=1):
 
 
 def sample_grid(kernel, shape, *, spacing=1.0, n_samples=1, method="auto", seed=None,
-                rank=100, approximate=False, dtype=np.float64, return_info=False):
+                rank=100, approximate=False, dtype=np.float64, device=None, return_info=False):
     """Draw ``n_samples`` latent surfaces G ~ N(0, R) (eq 10) on a regular grid.
 
     Args:
@@ -271,10 +326,17 @@ def sample_grid(kernel, shape, *, spacing=1.0, n_samples=1, method="auto", seed=
             share of the variance is reported and warned about) instead of growing it.
         dtype: of the result; ``numpy.float32`` also runs circulant FFTs in single precision
             (half the memory). Dense methods always compute in float64.
+        device: None (numpy) or a torch device such as ``"cuda"`` (:mod:`roughgp.device`):
+            the FFTs, factorisations and products run there. Circulant draws then take their
+            noise from a torch generator on the device (seeded from ``seed``: the same seed
+            gives the same array on the same kind of device, other numbers than numpy's);
+            Cholesky and Lanczos draws take it from numpy and match ``device=None`` to
+            rounding. The embedding search of the circulant method stays on the CPU (it is
+            cached).
         return_info: also return a :class:`SamplingInfo`.
 
     Returns:
-        array of shape ``(n_samples, *shape)`` (and the info when asked).
+        numpy array of shape ``(n_samples, *shape)`` (and the info when asked).
     """
     shape, spacing = normalize(shape, spacing)
     if not isinstance(n_samples, (int, np.integer)) or n_samples < 1:
@@ -289,6 +351,7 @@ def sample_grid(kernel, shape, *, spacing=1.0, n_samples=1, method="auto", seed=
         raise ValueError(f"dtype must be numpy.float32 or numpy.float64, got {dtype!r}")
     dtype = np.dtype(dtype)
     _acvf_of(kernel)
+    device = resolve_device(device)
     rng = _rng(seed)
     n_samples = int(n_samples)
     reason = "requested"
@@ -297,11 +360,11 @@ def sample_grid(kernel, shape, *, spacing=1.0, n_samples=1, method="auto", seed=
         _LOG.info("sample_grid chose method=%r: %s", method, reason)
     info = SamplingInfo(method=method, reason=reason)
     if method == "cholesky":
-        samples = _draw_cholesky(kernel, shape, spacing, n_samples, rng, info)
+        samples = _draw_cholesky(kernel, shape, spacing, n_samples, rng, info, device)
     elif method == "lanczos":
-        samples = _draw_lanczos(kernel, shape, spacing, n_samples, rng, info, rank)
+        samples = _draw_lanczos(kernel, shape, spacing, n_samples, rng, info, rank, device)
     else:
         samples = _draw_circulant(kernel, shape, spacing, n_samples, rng, info, approximate,
-                                  dtype)
+                                  dtype, device)
     samples = samples.astype(dtype, copy=False)  # dense methods compute in float64
     return (samples, info) if return_info else samples

@@ -70,14 +70,15 @@ def _check_surface_shape(shape):
     return shape
 
 
-def _draw_ground(parameters: GrooveParameters, shape, *, mirrored, noise, spacing, rng, method):
+def _draw_ground(parameters: GrooveParameters, shape, *, mirrored, noise, spacing, rng, method,
+                 device=None):
     latent = sample_grid(parameters.kernel(mirrored), shape, spacing=spacing, seed=rng,
-                         method=method)[0]
+                         method=method, device=device)[0]
     return latent if noise is None else noise.sample(latent, seed=rng)
 
 
 def ground(shape, *, variance, lengthscales, angle, noise_variance=1.0, spacing=1.0, seed=None,
-           method="circulant", latent=False) -> np.ndarray:
+           method="circulant", latent=False, device=None) -> np.ndarray:
     """A ground surface (section 3.1): a draw of eq 18 plus Gaussian noise (eq 8, 9).
 
     Args:
@@ -89,6 +90,8 @@ def ground(shape, *, variance, lengthscales, angle, noise_variance=1.0, spacing=
         seed: int, None or ``numpy.random.Generator``; the same seed gives the same surface.
         method: the sampler of :func:`roughgp.sampling.sample_grid`; ``"circulant"`` is exact.
         latent: return the latent GP draw alone (no noise).
+        device: None (numpy) or a torch device such as ``"cuda"`` for the latent draw
+            (:func:`roughgp.sampling.sample_grid`, :mod:`roughgp.device`).
 
     Returns:
         The surface ``z[iy, ix]``, in the height unit of ``sqrt(variance)``.
@@ -97,11 +100,11 @@ def ground(shape, *, variance, lengthscales, angle, noise_variance=1.0, spacing=
     parameters = GrooveParameters(variance, tuple(lengthscales), angle)
     noise = None if latent else GaussianNoise(noise_variance)
     return _draw_ground(parameters, shape, mirrored=False, noise=noise, spacing=spacing,
-                        rng=_rng(seed), method=method)
+                        rng=_rng(seed), method=method, device=device)
 
 
 def honing_stack(shape, steps, *, noise_variance=1.0, spacing=1.0, seed=None,
-                 method="circulant", latent=False) -> np.ndarray:
+                 method="circulant", latent=False, device=None) -> np.ndarray:
     """The ground surfaces a honed surface is the minimum of (eq 19, 20).
 
     Args: as :func:`honed`.
@@ -118,12 +121,13 @@ def honing_stack(shape, steps, *, noise_variance=1.0, spacing=1.0, seed=None,
     noise = None if latent else GaussianNoise(noise_variance)
     rng = _rng(seed)
     return np.stack([[_draw_ground(step, shape, mirrored=mirrored, noise=noise, spacing=spacing,
-                                   rng=rng, method=method) for mirrored in (False, True)]
+                                   rng=rng, method=method, device=device)
+                      for mirrored in (False, True)]
                      for step in steps])
 
 
 def honed(shape, steps, *, noise_variance=1.0, spacing=1.0, seed=None, method="circulant",
-          latent=False) -> np.ndarray:
+          latent=False, device=None) -> np.ndarray:
     """A P-step honed surface (section 3.2, eq 19 and 20).
 
     Each step ``p`` draws two independent ground surfaces with the step's hyperparameters and
@@ -134,12 +138,12 @@ def honed(shape, steps, *, noise_variance=1.0, spacing=1.0, seed=None, method="c
     Args:
         shape: ``(ny, nx)``.
         steps: a sequence of :class:`GrooveParameters`, one per honing step (:data:`FIGURE_3`).
-        noise_variance, spacing, seed, method, latent: as in :func:`ground`; the noise enters
-            every ground surface.
+        noise_variance, spacing, seed, method, latent, device: as in :func:`ground`; the
+            noise enters every ground surface.
 
     Returns:
         The honed surface ``z[iy, ix]``.
     """
     stack = honing_stack(shape, steps, noise_variance=noise_variance, spacing=spacing,
-                         seed=seed, method=method, latent=latent)
+                         seed=seed, method=method, latent=latent, device=device)
     return stack.min(axis=(0, 1))

@@ -33,6 +33,14 @@ where :math:`c_h` is the sum of the :math:`h`-th diagonal of :math:`K^{-1}`; for
 So one likelihood-and-gradient evaluation costs one :math:`O(n^2)` recursion plus
 :math:`O(n\log n)`. Where SciPy's private Levinson solver is missing, a Python
 Durbin-Levinson loop (same numbers, slower) takes its place.
+
+On a device
+-----------
+With ``device=`` (:mod:`roughgp.device`) the same numbers come from the dense route on that
+device: :math:`K` gathered from :math:`r`, its Cholesky factor, and the gradient with respect
+to :math:`r` by automatic differentiation through both (:math:`O(n^3)`). The recursion is
+sequential and the dense route parallel: on a GPU the dense route is the faster one for the
+profile lengths of section 3.3 (``benchmarks/device.py`` measures both).
 """
 
 from __future__ import annotations
@@ -43,6 +51,7 @@ import numpy as np
 from scipy import fft as sp_fft
 
 from roughgp._checks import check_finite
+from roughgp.device import resolve as resolve_device
 
 try:  # SciPy's compiled Levinson recursion (returns the reflection coefficients too)
     from scipy.linalg._solve_toeplitz import levinson as _scipy_levinson
@@ -115,7 +124,40 @@ def _toeplitz_core(z, r, gradient):
     return loglik, grad
 
 
-def toeplitz_log_likelihood(z, acvf_values, *, gradient=False):
+_INDEX: dict = {}  # the |s - t| lag index of the last dense evaluation, by (n, device)
+
+
+def _dense_core(z, r, gradient, device):
+    """:func:`_toeplitz_core`'s numbers by a dense Cholesky factorisation on ``device``."""
+    import torch
+
+    from roughgp.device import check_memory
+
+    n = z.size
+    key = (n, str(device))
+    if key not in _INDEX:
+        # the index, K, its factor and the backward pass's temporaries: about 6 n x n arrays
+        check_memory(6 * 8 * n * n, device, f"the dense likelihood of a {n}-point profile")
+        _INDEX.clear()
+        i = torch.arange(n, device=device)
+        _INDEX[key] = (i[None, :] - i[:, None]).abs()
+    index = _INDEX[key]
+    r_t = torch.as_tensor(r, device=device).requires_grad_(gradient)
+    z_t = torch.as_tensor(z, device=device)
+    with torch.set_grad_enabled(gradient):
+        factor, failed = torch.linalg.cholesky_ex(r_t[index])
+        if int(failed):
+            raise np.linalg.LinAlgError("covariance not positive definite (Cholesky failed)")
+        alpha = torch.cholesky_solve(z_t[:, None], factor)[:, 0]
+        loglik = (-0.5 * (z_t @ alpha) - torch.log(factor.diagonal()).sum()
+                  - 0.5 * n * math.log(2.0 * math.pi))
+    if not gradient:
+        return float(loglik), None
+    (grad,) = torch.autograd.grad(loglik, r_t)
+    return float(loglik.detach()), grad.cpu().numpy()
+
+
+def toeplitz_log_likelihood(z, acvf_values, *, gradient=False, device=None):
     r"""Exact log-likelihood of a zero-mean profile under a stationary Gaussian process, and
     optionally its gradient with respect to the ACVF values, in :math:`O(n^2)`.
 
@@ -129,6 +171,8 @@ def toeplitz_log_likelihood(z, acvf_values, *, gradient=False):
             definite.
         gradient: also return ``g`` of shape (n,) with :math:`g_h = \partial\log p /
             \partial r_h` (a change of :math:`r_h` changes both off-diagonals :math:`\pm h`).
+        device: None (the :math:`O(n^2)` recursion on the CPU) or a torch device such as
+            ``"cuda"``: the dense route there (module docstring), the same numbers.
 
     Returns:
         the log-likelihood (float), or ``(loglik, g)`` with ``gradient=True``.
@@ -142,8 +186,12 @@ def toeplitz_log_likelihood(z, acvf_values, *, gradient=False):
         raise ValueError(f"acvf_values must have shape (m,) with m >= len(z) = {z.size}, "
                          f"got shape {r.shape}")
     check_finite("acvf_values", r)
+    device = resolve_device(device)
     try:
-        loglik, grad = _toeplitz_core(z, r[:z.size], gradient)
+        if device is None:
+            loglik, grad = _toeplitz_core(z, r[:z.size], gradient)
+        else:
+            loglik, grad = _dense_core(z, r[:z.size], gradient, device)
     except np.linalg.LinAlgError:
         raise ValueError("acvf_values must be positive definite: its Toeplitz matrix of "
                          f"size {z.size} is singular or indefinite") from None
