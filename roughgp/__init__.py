@@ -12,7 +12,10 @@ Welch, empirical ACVF), :mod:`roughgp.sampling` (draws of eq 10), :mod:`roughgp.
 parameters), :mod:`roughgp.toeplitz` and :mod:`roughgp.fitting` (the spectral-mixture fit of
 section 3.3), :mod:`roughgp.posterior` (hyperparameter posteriors with emcee),
 :mod:`roughgp.data` (synthetic turned profiles and surfaces) and :mod:`roughgp.readers` /
-:mod:`roughgp.levelling` (the user's own measurements).
+:mod:`roughgp.levelling` (the user's own measurements). Beyond the paper:
+:mod:`roughgp.non_gaussian`, :mod:`roughgp.targets`, :mod:`roughgp.gap_filling` with
+:mod:`roughgp.block_fit`, and :mod:`roughgp.device` (the ``device=`` argument: the same calls
+through torch on a GPU).
 """
 
 __version__ = "0.1.0"

@@ -501,12 +501,14 @@ def check_prescribed(full):
 
 def check_gap_filling(full):
     """Conclusion, ref [48]: the model can interpolate non-measured points. A ground
-    surface (eq 18, known hyperparameters) with 10 % dropouts and a blob, filled by the GP
-    posterior mean (roughgp.gap_filling) against linear interpolation, and the coverage
-    of +-2 posterior sd."""
+    surface (eq 18) with 10 % dropouts and a blob, filled by the GP posterior mean
+    (roughgp.gap_filling) against linear interpolation, with the known hyperparameters and
+    with those fitted on the measured points alone (roughgp.block_fit), and the coverage of
+    +-2 posterior sd."""
     import scipy.interpolate
 
     from roughgp import gap_filling, surfaces
+    from roughgp.block_fit import fit_ground_to_valid_points
     n = 256 if full else 128
     ground = surfaces.GrooveParameters(variance=10.0, lengthscales=(40.0, 5.0),
                                        angle=math.pi / 6)
@@ -516,20 +518,72 @@ def check_gap_filling(full):
     iy, ix = np.indices(g.shape)
     blob = ((ix - 0.4 * n) / (0.09 * n)) ** 2 + ((iy - 0.4 * n) / (0.05 * n)) ** 2 <= 1
     missing = (np.random.default_rng(13).random(g.shape) < 0.1) | blob
-    fill = gap_filling.fill_gaps(np.where(missing, np.nan, z), ground.kernel(),
-                                 noise_variance=0.1, n_samples=16, seed=11)
+    measured = np.where(missing, np.nan, z)
+    fitted = fit_ground_to_valid_points(measured, seed=11)
+    fills = {"known": gap_filling.fill_gaps(measured, ground.kernel(), noise_variance=0.1,
+                                            n_samples=16, seed=11),
+             "fitted": gap_filling.fill_gaps(measured, fitted.kernel,
+                                             noise_variance=fitted.noise_variance,
+                                             n_samples=16, seed=11)}
     linear = scipy.interpolate.griddata(np.column_stack([iy[~missing], ix[~missing]]),
                                         z[~missing], (iy[missing], ix[missing]),
                                         method="linear")
     keep = np.isfinite(linear)                     # linear is undefined outside the hull
     truth = g[missing]
-    rmse_gp = float(np.sqrt(np.mean((fill.mean[missing] - truth)[keep] ** 2)))
+    rmse = {k: float(np.sqrt(np.mean((f.mean[missing] - truth)[keep] ** 2)))
+            for k, f in fills.items()}
     rmse_linear = float(np.sqrt(np.mean((linear - truth)[keep] ** 2)))
-    inside = float(np.mean(np.abs(truth - fill.mean[missing]) <= 2 * fill.sd[missing]))
-    return Check(f"{n} x {n}, {missing.mean():.0%} missing: RMSE GP {rmse_gp:.2f}, linear "
-                 f"{rmse_linear:.2f}; truth inside +-2 sd: {inside:.3f} (16 draws: 0.937 "
-                 f"expected)", bool(fill.converged and rmse_gp < rmse_linear
-                                    and 0.90 <= inside <= 0.98))
+    inside = {k: float(np.mean(np.abs(truth - f.mean[missing]) <= 2 * f.sd[missing]))
+              for k, f in fills.items()}
+    h = fitted.groove
+    holds = (all(f.converged for f in fills.values()) and rmse["known"] < rmse_linear
+             and rmse["fitted"] <= 1.05 * rmse["known"]
+             and all(0.90 <= v <= 0.98 for v in inside.values()))
+    return Check(f"{n} x {n}, {missing.mean():.0%} missing: RMSE GP {rmse['known']:.2f} "
+                 f"(hyperparameters known), {rmse['fitted']:.2f} (fitted on the measured "
+                 f"points: sigma_k^2 {h.variance:.1f}, lambda {h.lengthscales[0]:.0f} / "
+                 f"{h.lengthscales[1]:.1f}, phi {math.degrees(h.angle):.1f} deg), linear "
+                 f"{rmse_linear:.2f}; truth inside +-2 sd: {inside['known']:.3f} / "
+                 f"{inside['fitted']:.3f} (16 draws: 0.937 expected)", bool(holds))
+
+
+def check_device(full):
+    """Beyond the paper, scale: the device= paths (roughgp.device) give the numpy paths'
+    numbers, on torch's CPU and, where torch sees one, on a GPU."""
+    from roughgp import device as devices
+    from roughgp import gap_filling, kernels, posterior, sampling, surfaces
+    kernel = kernels.RotatedExponentialKernel(variance=2.0, lengthscales=(6.0, 2.0),
+                                              angle=math.pi / 6)
+    z = surfaces.ground((24, 24), variance=2.0, lengthscales=(6.0, 2.0), angle=0.5,
+                        noise_variance=0.1, seed=3)
+    params = {"variance": 2.0, "lambda_a": 6.0, "lambda_b": 2.0, "angle": 0.5,
+              "noise_variance": 0.1}
+    gappy = surfaces.ground((96, 96), variance=2.0, lengthscales=(6.0, 2.0),
+                            angle=math.pi / 6, noise_variance=0.1, seed=4)
+    gappy[np.random.default_rng(5).random(gappy.shape) < 0.1] = np.nan
+    reference = {
+        "draw": sampling.sample_grid(kernel, (20, 20), method="cholesky", seed=1),
+        "loglik": posterior.ground_patch_model(z).log_likelihood(params),
+        "fill": gap_filling.fill_gaps(gappy, kernel, noise_variance=0.1, n_samples=0).mean}
+    holds, text = True, []
+    for name in devices.available():
+        got = {
+            "draw": sampling.sample_grid(kernel, (20, 20), method="cholesky", seed=1,
+                                         device=name),
+            "loglik": posterior.ground_patch_model(z, device=name).log_likelihood(params),
+            "fill": gap_filling.fill_gaps(gappy, kernel, noise_variance=0.1, n_samples=0,
+                                          device=name).mean}
+        gaps = (float(np.max(np.abs(got["draw"] - reference["draw"]))),
+                abs(got["loglik"] - reference["loglik"]) / abs(reference["loglik"]),
+                float(np.max(np.abs(got["fill"] - reference["fill"]))))
+        holds &= gaps[0] < 1e-9 and gaps[1] < 1e-9 and gaps[2] < 1e-4
+        text.append(f"{name}: Cholesky draw {gaps[0]:.1e}, patch log-likelihood "
+                    f"(relative) {gaps[1]:.1e}, gap-fill mean {gaps[2]:.1e}")
+    if "cuda" not in devices.available():
+        text.append("no GPU here; on an NVIDIA H200 (benchmarks/results) the gap filling of "
+                    "512 x 512 ran 77 times and a 128 x 128 Cholesky draw 94 times faster "
+                    "than numpy")
+    return Check("largest differences from numpy: " + "; ".join(text), bool(holds))
 
 
 # ------------------------------------------------------------------ conclusion
@@ -711,12 +765,23 @@ CLAIM_TABLE = [
     dict(key="future-gap-filling", where="Conclusion, ref [48]",
          statement="The model can interpolate non-measured or spurious points of optical "
                    "measurements.",
-         paper_value="", tolerance="GP error below linear interpolation's; +-2 sd covers "
-                                   "0.90-0.98 of the truth",
+         paper_value="", tolerance="GP error below linear interpolation's, with fitted "
+                                   "hyperparameters within 5 % of the known ones'; +-2 sd "
+                                   "covers 0.90-0.98 of the truth",
          verdict="beyond the paper",
          why="posterior mean and sd by conjugate gradients with FFT products (no dense "
-             "matrix), hyperparameters known from the simulation (fitting them is not done)",
+             "matrix), with the simulation's hyperparameters and with hyperparameters fitted "
+             "on the measured points alone (block composite likelihood)",
          chapter="gap_filling", check=check_gap_filling),
+    dict(key="scale-device", where="Beyond the paper (scale)",
+         statement="Sampling, fitting and gap filling run on a GPU through torch (device=) "
+                   "and give the CPU's numbers.",
+         paper_value="", tolerance="Cholesky draw and patch log-likelihood equal numpy's to "
+                                   "1e-9, gap-fill mean within 1e-4 (the CG tolerance)",
+         verdict="beyond the paper",
+         why="torch's CPU path is checked everywhere; the CUDA path where torch sees a GPU "
+             "(tests/test_device.py ran on an H200; benchmarks/device.py gives the timings)",
+         chapter="running.md", check=check_device),
     dict(key="measured-data", where="Sec 3.3-3.4, figs 4, 6",
          statement="The fits to the measured Rubert turned profile and surface (confocal "
                    "microscope) give the simulations shown.",

@@ -48,7 +48,8 @@ class Claim:
     ``statement``: the claim in a sentence; ``paper_value``: the paper's number ("" if
     none); ``tolerance``: what counts as agreement; ``verdict``: one of :data:`VERDICTS`;
     ``why``: the setup that differs, or why it is not reproducible or not checkable;
-    ``chapter``: the book page (file name without extension) that shows the check;
+    ``chapter``: the book page that shows the check (a notebook's name without extension,
+    or a page's file name such as ``"running.md"``);
     ``check``: ``check(full) -> Check``, or None for ``not checkable``.
     """
 
@@ -188,7 +189,10 @@ def _cell(text: str) -> str:
 
 
 def _where(c: Claim, chapter_links: bool) -> str:
-    return f"[{c.where}]({c.chapter}.ipynb)" if chapter_links and c.chapter else c.where
+    if not (chapter_links and c.chapter):
+        return c.where
+    page = c.chapter if "." in c.chapter else f"{c.chapter}.ipynb"
+    return f"[{c.where}]({page})"
 
 
 def to_markdown(outcomes: Iterable[Outcome], *, chapter_links: bool = False,

@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import logging
 import math
-import os
 import warnings
 from dataclasses import dataclass, field
 from typing import Callable
@@ -32,10 +31,12 @@ import scipy.linalg
 
 from roughgp import circulant
 from roughgp._checks import as_generator as _rng
+from roughgp.device import free_bytes
 from roughgp.device import resolve as resolve_device
 from roughgp.grid import centred_lags, normalize
 
-__all__ = ["sample_grid", "grid_covariance", "choose_method", "SamplingInfo", "METHODS"]
+__all__ = ["sample_grid", "grid_covariance", "covariance_index", "choose_method", "SamplingInfo",
+           "METHODS"]
 
 METHODS = ("auto", "cholesky", "lanczos", "circulant")
 
@@ -75,10 +76,9 @@ def _acvf_of(kernel, name="kernel") -> Callable:
 
 
 def _available_bytes() -> int:
-    try:
-        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-    except (ValueError, OSError, AttributeError):  # pragma: no cover - non-POSIX
-        return 8 * 2**30
+    import torch
+
+    return free_bytes(torch.device("cpu"))
 
 
 def grid_covariance(kernel, shape, spacing=1.0, *, device=None):

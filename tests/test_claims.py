@@ -4,17 +4,19 @@ The quick checks run here; the slow ones (figures 2, 3, 5, 7: seconds to a minut
 in the chapter "Claims ledger", which nbmake executes, and through `roughgp reproduce`."""
 
 import json
+from pathlib import Path
 
 import pytest
 
 from roughgp import claims
 from roughgp.claims import CLAIMS, VERDICTS, Check, Claim, Outcome
 
+BOOK = Path(__file__).resolve().parents[1] / "book"
 QUICK = ["eq5-duality", "fig1-acvf", "sec2.3-ma-finite", "sec2.3-arma-linear",
          "sec2.3-gp-is-arma", "sec2.3-ar-not-gp", "eq16-17-moving-average",
          "conclusion-long-correlation", "sec2.2-sampling",
          "conclusion-non-gaussian", "future-prescribed-parameters",
-         "future-gap-filling"]
+         "future-gap-filling", "scale-device"]
 
 
 def test_the_ledger_covers_what_the_issue_asks():
@@ -28,6 +30,8 @@ def test_the_ledger_covers_what_the_issue_asks():
                                           "not reproducible as stated", "not checkable"}
     for c in CLAIMS:
         assert c.verdict in VERDICTS and c.where and c.statement and c.chapter
+        page = c.chapter if "." in c.chapter else f"{c.chapter}.ipynb"
+        assert (BOOK / page).is_file(), f"{c.key}: no book page {page}"
         if c.verdict != "reproduced":
             assert c.why, f"{c.key}: a verdict other than 'reproduced' must say why"
 
