@@ -581,7 +581,7 @@ def check_device(full):
                     f"(relative) {gaps[1]:.1e}, gap-fill mean {gaps[2]:.1e}")
     if "cuda" not in devices.available():
         text.append("no GPU here; on an NVIDIA H200 (benchmarks/results) the gap filling of "
-                    "512 x 512 ran 77 times and a 128 x 128 Cholesky draw 94 times faster "
+                    "512 x 512 ran 36 times and a 128 x 128 Cholesky draw 94 times faster "
                     "than numpy")
     return Check("largest differences from numpy: " + "; ".join(text), bool(holds))
 

@@ -27,9 +27,11 @@ Method
   :func:`roughgp.sampling.sample_grid`) and noise ``e`` on the observed points,
   :math:`d = f - K P^\top (P K P^\top + \sigma^2 I)^{-1}(P f + e)` is a draw of the posterior
   error ``g - E[g | y]``, so ``sd = sqrt(mean(d**2))`` over the draws (``n_samples`` degrees
-  of freedom: its relative sampling error is about ``1 / sqrt(2 n_samples)``). All the solves
-  (mean and draws) run together, one batched CG; the draws' solves stop at a looser
-  ``sample_tol`` (1e-3) than the mean's ``tol`` (1e-6).
+  of freedom: its relative sampling error is about ``1 / sqrt(2 n_samples)``). The draws'
+  solves run together, one batched CG, and stop at a looser ``sample_tol`` (1e-3) than the
+  mean's ``tol`` (1e-6); they run in single precision (``sample_dtype``): at that tolerance
+  float32 changes the sd by far less than its Monte Carlo error (on a 256 x 256 test, by at
+  most 0.005 where the sd is 0.3 to 3) and takes about 0.6 times the float64 time.
 
 The ``sd`` is that of the latent surface ``g``; the spread of a new *measurement* at a point is
 ``sqrt(sd**2 + noise_variance)``. Hyperparameters are inputs: this module does not fit them.
@@ -52,6 +54,7 @@ from roughgp.sampling import _acvf_of, sample_grid
 __all__ = ["GapFill", "ToeplitzOperator", "fill_gaps", "conjugate_gradients"]
 
 PRECONDITIONERS = ("circulant", None)
+_SINGLE_TOL = 1e-5  # the tightest relative residual asked of a float32 CG solve
 
 
 @dataclass(frozen=True)
@@ -111,12 +114,21 @@ class ToeplitzOperator:
             self.spectrum = torch.fft.rfft2(torch.as_tensor(base, device=device))
 
     def _apply(self, values, multiplier):
+        """The grid part of the circular convolution of ``values`` (zero-padded to the torus)
+        with the kernel whose spectrum is ``multiplier``; in single precision for float32
+        ``values``."""
         ny, nx = self.shape
         if self.device is not None:
             import torch
 
+            if values.dtype == torch.float32:
+                multiplier = multiplier.to(torch.complex64 if multiplier.is_complex()
+                                           else torch.float32)
             spec = torch.fft.rfft2(values, s=self.torus) * multiplier
             return torch.fft.irfft2(spec, s=self.torus)[..., :ny, :nx]
+        if values.dtype == np.float32:
+            multiplier = multiplier.astype(np.complex64 if np.iscomplexobj(multiplier)
+                                           else np.float32)
         spec = scipy.fft.rfft2(values, s=self.torus, axes=(-2, -1), workers=-1)
         spec *= multiplier
         return scipy.fft.irfft2(spec, s=self.torus, axes=(-2, -1), workers=-1)[..., :ny, :nx]
@@ -148,7 +160,7 @@ def conjugate_gradients(matvec, rhs, *, precondition=None, tol=1e-6, max_iter=10
 
     def per_system(values):  # numpy vector on the host -> shaped to scale a stack
         values = values.reshape((-1,) + (1,) * (rhs.ndim - 1))
-        return values if on_numpy else rhs.new_tensor(values)
+        return values.astype(rhs.dtype) if on_numpy else rhs.new_tensor(values)
 
     def sums(a, b):  # per-system inner products, on the host
         out = (a * b).sum(axis=axes)
@@ -212,7 +224,7 @@ def _missing_map(z, mask):
 
 def fill_gaps(z, kernel, *, noise_variance, spacing=1.0, mask=None, n_samples=16, seed=None,
               tol=1e-6, sample_tol=1e-3, max_iter=1000,
-              preconditioner="circulant", device=None) -> GapFill:
+              preconditioner="circulant", sample_dtype=np.float32, device=None) -> GapFill:
     """Fill the NaN (and ``mask``-ed) points of a height map with the GP posterior mean.
 
     Args:
@@ -232,6 +244,10 @@ def fill_gaps(z, kernel, *, noise_variance, spacing=1.0, mask=None, n_samples=16
             default: ``sd`` carries a Monte Carlo error of ~``1/sqrt(2 n_samples)`` anyway).
         max_iter: CG iteration cap; ``converged`` is False when it is reached.
         preconditioner: ``"circulant"`` (module docstring) or ``None``.
+        sample_dtype: ``numpy.float32`` (default) or ``numpy.float64``: the precision of the
+            draws' solves (the mean's is always float64). Single precision is ample for their
+            ``sample_tol`` of 1e-3 and about 1.6 times faster (module docstring); it needs
+            ``sample_tol >= 1e-5``.
         device: None (numpy and scipy) or a torch device such as ``"cuda"``
             (:mod:`roughgp.device`): the FFT products and the CG iterations run there (the
             prior draws too; their noise then comes from a device generator).
@@ -247,6 +263,13 @@ def fill_gaps(z, kernel, *, noise_variance, spacing=1.0, mask=None, n_samples=16
     check_positive("tol", tol)
     check_positive("sample_tol", sample_tol)
     max_iter = check_integer("max_iter", max_iter, 1)
+    if sample_dtype not in (np.float32, np.float64):
+        raise ValueError(f"sample_dtype must be numpy.float32 or numpy.float64, "
+                         f"got {sample_dtype!r}")
+    if sample_dtype == np.float32 and n_samples and sample_tol < _SINGLE_TOL:
+        raise ValueError(f"sample_tol must be >= {_SINGLE_TOL:g} with sample_dtype float32 "
+                         f"(single precision cannot resolve less), got {sample_tol!r}; use "
+                         f"sample_dtype=numpy.float64 for a tighter tolerance")
     if preconditioner not in PRECONDITIONERS:
         raise ValueError(f"preconditioner must be one of {PRECONDITIONERS}, "
                          f"got {preconditioner!r}")
@@ -258,37 +281,47 @@ def fill_gaps(z, kernel, *, noise_variance, spacing=1.0, mask=None, n_samples=16
     weight = observed.astype(np.float64)
 
     offset = float(np.mean(z[observed]))
-    rhs = np.zeros((1 + n_samples, *shape))
-    rhs[0][observed] = z[observed] - offset
+    data = np.where(observed, z - offset, 0.0)[None]
     prior = None
     if n_samples:
         prior = sample_grid(kernel, shape, spacing=spacing, n_samples=n_samples,
                             method="circulant", seed=rng, device=device)
         noise = np.sqrt(noise_variance) * rng.standard_normal((n_samples, *shape))
-        rhs[1:] = -(prior + noise) * weight
+        draws = (-(prior + noise) * weight).astype(sample_dtype)
     if device is not None:
         import torch
 
-        rhs, weight = (torch.as_tensor(a, device=device) for a in (rhs, weight))
+        data, weight = (torch.as_tensor(a, device=device) for a in (data, weight))
+        if n_samples:
+            draws = torch.as_tensor(draws, device=device)
 
-    def matvec(v):  # (P K P^T + s2 I) v, v zero off the observed points
-        return operator.matvec(v) * weight + noise_variance * v
+    def solve(rhs, tolerance):
+        """CG for (P K P^T + s2 I) alpha = rhs, in the precision of rhs; returns K alpha."""
+        w = weight.to(rhs.dtype) if device is not None else weight.astype(rhs.dtype)
 
-    precondition = None
-    if preconditioner == "circulant":
-        def precondition(r):
-            return operator.inverse_torus(r, noise_variance) * weight
+        def matvec(v):  # (P K P^T + s2 I) v, v zero off the observed points
+            return operator.matvec(v) * w + noise_variance * v
 
-    tols = np.full(1 + n_samples, float(sample_tol))
-    tols[0] = tol
-    alpha, iterations, done = conjugate_gradients(matvec, rhs, precondition=precondition,
-                                                  tol=tols, max_iter=max_iter)
-    correction = operator.matvec(alpha)
-    if device is not None:
-        correction = correction.cpu().numpy()
+        precondition = None
+        if preconditioner == "circulant":
+            def precondition(r):
+                return operator.inverse_torus(r, noise_variance) * w
+
+        alpha, its, converged = conjugate_gradients(matvec, rhs, precondition=precondition,
+                                                    tol=tolerance, max_iter=max_iter)
+        product = operator.matvec(alpha)
+        product = product.cpu().numpy() if device is not None else product
+        return product.astype(np.float64), its, converged
+
+    correction, iterations, done = solve(data, tol)
+    sample_iterations = 0
+    if n_samples:
+        sample_correction, its, converged = solve(draws, sample_tol)
+        sample_iterations = int(its.max())
+        done = np.concatenate((done, converged))
     mean = correction[0] + offset
     if n_samples:
-        errors = prior + correction[1:]
+        errors = prior + sample_correction
         sd = np.sqrt(np.mean(errors**2, axis=0))
     else:
         sd = np.zeros(shape)
@@ -296,5 +329,5 @@ def fill_gaps(z, kernel, *, noise_variance, spacing=1.0, mask=None, n_samples=16
         raise FloatingPointError("non-finite posterior: check noise_variance and the kernel")
     filled = np.where(missing, mean, z)
     return GapFill(mean=mean, sd=sd, missing=missing, filled=filled, iterations=int(iterations[0]),
-                   sample_iterations=int(iterations[1:].max(initial=0)),
-                   converged=bool(np.all(done)), seconds=time.perf_counter() - start)
+                   sample_iterations=sample_iterations, converged=bool(np.all(done)),
+                   seconds=time.perf_counter() - start)

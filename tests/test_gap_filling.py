@@ -80,7 +80,7 @@ def test_observed_points_reproduced_and_sd_grows_into_holes():
     noise_variance = 1e-6
     z, holed, missing = _surface(noise_variance)
     fill = fill_gaps(holed, KERNEL, noise_variance=noise_variance, n_samples=32, seed=1,
-                     tol=1e-10, sample_tol=1e-8, max_iter=5000)
+                     tol=1e-10, sample_tol=1e-8, max_iter=5000, sample_dtype=np.float64)
     assert fill.converged
     assert np.max(np.abs(fill.mean - z)[~missing]) < 0.01
     assert np.max(fill.sd[~missing]) < 0.01
@@ -93,7 +93,8 @@ def test_observed_points_reproduced_and_sd_grows_into_holes():
 
 def test_sd_matches_dense_posterior_with_many_draws():
     z, holed, missing = _surface(0.1)
-    fill = fill_gaps(holed, KERNEL, noise_variance=0.1, n_samples=400, seed=5, sample_tol=1e-8)
+    fill = fill_gaps(holed, KERNEL, noise_variance=0.1, n_samples=400, seed=5, sample_tol=1e-8,
+                     sample_dtype=np.float64)
     _, sd = _dense_posterior(KERNEL, z, missing, 0.1)
     # 400 draws: relative sd error ~ 1 / sqrt(800) = 3.5 %; 5 sigma for the worst of 480 points
     assert np.max(np.abs(fill.sd / sd - 1)) < 0.2
@@ -108,6 +109,18 @@ def test_deterministic_by_seed():
     assert np.array_equal(a.mean, b.mean) and np.array_equal(a.sd, b.sd)
     assert not np.array_equal(a.sd, c.sd)
     assert np.array_equal(a.mean, c.mean)
+
+
+def test_single_precision_draws_change_the_sd_far_less_than_its_monte_carlo_error():
+    _, holed, missing = _surface(0.1)
+    single = fill_gaps(holed, KERNEL, noise_variance=0.1, n_samples=16, seed=3)
+    double = fill_gaps(holed, KERNEL, noise_variance=0.1, n_samples=16, seed=3,
+                       sample_dtype=np.float64)
+    assert single.converged and double.converged
+    assert np.array_equal(single.mean, double.mean)  # the mean is always solved in float64
+    # the same draws, solved to 1e-3 in either precision: the sd's relative Monte Carlo
+    # error with 16 draws is 1/sqrt(32) = 18 %; single precision must stay far below it
+    assert np.max(np.abs(single.sd[missing] / double.sd[missing] - 1)) < 0.01
 
 
 def test_conjugate_gradients_batched():
@@ -137,6 +150,8 @@ def test_conjugate_gradients_batched():
     (None, {"sample_tol": -1.0}, "sample_tol"),
     (None, {"max_iter": 0}, "max_iter"),
     (None, {"preconditioner": "jacobi"}, "preconditioner"),
+    (None, {"sample_dtype": np.float16}, "sample_dtype must be numpy.float32 or"),
+    (None, {"n_samples": 2, "sample_tol": 1e-8}, r"sample_tol must be >= 1e-05 with sample_dtype"),
     (None, {"seed": -3}, "seed"),
 ])
 def test_bad_input_raises(z, kwargs, match):
