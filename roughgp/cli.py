@@ -12,6 +12,8 @@ Gaussian processes" (Surf. Topogr.: Metrol. Prop.). Sub-commands:
 * ``roughgp fit``: the spectral-mixture fit of section 3.3 (eq 21) to a profile, or to the
   mean profile of a surface.
 * ``roughgp texture``: ISO 25178-2 (surface) or ISO 4287 / 13565-2 (profile) parameters.
+* ``roughgp fill``: the unmeasured (NaN) points of a surface filled by the GP posterior mean
+  (:mod:`roughgp.gap_filling`), with eq 18 fitted on the measured points (:mod:`roughgp.block_fit`).
 
 Units: heights and lengths (spacing, lengthscales, feed, periods) are in micrometres (um).
 Exit codes: 0 success, 1 a claim regressed (``reproduce``), 2 a usage or input error (a
@@ -632,6 +634,68 @@ def cmd_texture(args) -> int:
     return 0
 
 
+# =========================================================================== fill
+
+def cmd_fill(args) -> int:
+    """``roughgp fill FILE``: fill the unmeasured points of a surface with the GP posterior."""
+    from roughgp import levelling
+    from roughgp.block_fit import fit_ground_to_valid_points
+    from roughgp.device import resolve
+    from roughgp.gap_filling import fill_gaps
+    out = _check_output(args.out)
+    sd_out = _check_output(args.sd) if args.sd else None
+    if args.samples < 0:
+        raise UsageError(f"--samples must be >= 0, got {args.samples}")
+    if sd_out is not None and args.samples < 2:
+        raise UsageError("--sd needs --samples >= 2 (the sd is estimated from the draws)")
+    try:
+        resolve(args.device, name="--device")
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    heights = _read(args.file, kind="surface", spacing=args.spacing)
+    if heights.kind != "surface":
+        raise UsageError(f"{args.file} holds a profile; fill needs a surface z[iy, ix]")
+    (dy, dx), z = heights.spacing, heights.z
+    spacing = dx if dy == dx else (dy, dx)
+    if dy != dx and ".csv" in {out.suffix.lower(), (sd_out or out).suffix.lower()}:
+        raise UsageError(f"the spacing differs along y and x ({dy:g}, {dx:g} um): a .csv "
+                         f"stores one spacing; write .x3p or .npy")
+    missing = np.isnan(z)
+    if not missing.any():
+        raise UsageError(f"{args.file} has no missing (NaN) point: nothing to fill")
+    _err(f"{args.file}: {z.shape[0]} x {z.shape[1]} points, spacing {dy:g} x {dx:g} um "
+         f"({heights.spacing_source}), {missing.sum()} missing ({missing.mean():.1%})")
+    levelled, plane = levelling.level(z, spacing=heights.spacing, return_coefficients=True)
+    start = time.perf_counter()
+    fit = fit_ground_to_valid_points(levelled, spacing=heights.spacing, block=args.block,
+                                     n_blocks=args.blocks, seed=args.seed)
+    g = fit.groove
+    _err(f"eq 18 fitted on {fit.n_points} measured points of {len(fit.blocks)} blocks in "
+         f"{time.perf_counter() - start:.1f} s: {_describe(g)}, noise variance "
+         f"{fit.noise_variance:.4g} um^2")
+    fill = fill_gaps(levelled, fit.kernel, noise_variance=fit.noise_variance,
+                     spacing=heights.spacing, n_samples=args.samples, seed=args.seed,
+                     device=args.device)
+    if not fill.converged:
+        _err("warning: conjugate gradients did not reach their tolerance; the fill is "
+             "approximate")
+    iy, ix = np.indices(z.shape)
+    tilt = plane.offset + plane.slope[0] * iy * dy + plane.slope[1] * ix * dx
+    filled = np.where(missing, fill.mean + tilt, z)
+    _err(f"filled in {fill.seconds:.1f} s ({fill.iterations} CG iterations"
+         + (f", {args.samples} draws for the sd" if args.samples else "") + ")")
+    comment = f"roughgp fill {Path(args.file).name} --seed {args.seed}"
+    _write(out, filled, spacing, comment)
+    _err(f"wrote {out} (the measured heights, the {missing.sum()} missing ones filled by the "
+         f"posterior mean)")
+    if sd_out is not None:
+        _write(sd_out, np.where(missing, fill.sd, 0.0), spacing, comment + " (posterior sd)")
+        sd = fill.sd[missing]
+        _err(f"wrote {sd_out} (posterior sd of the latent surface at the filled points, 0 at "
+             f"measured ones; median {np.median(sd):.3g} um, largest {sd.max():.3g} um)")
+    return 0
+
+
 # =========================================================================== the parser
 
 _DESCRIPTION = """\
@@ -644,6 +708,7 @@ examples:
   roughgp simulate turned --profile 4096 --seed 1 --out turned.csv
   roughgp fit turned.csv --out fit.json        spectral-mixture fit (eq 21)
   roughgp texture ground.x3p                   ISO 25178-2 parameters (Sq, Ssk, Sal, ...)
+  roughgp fill measured.x3p --out filled.x3p   missing (NaN) points filled by the GP
 
 exit codes: 0 success, 1 a claim regressed (reproduce), 2 a usage or input error."""
 
@@ -720,6 +785,18 @@ define (e.g. the skewness of a flat surface) prints as nan (null in the JSON).
 
 example:
   roughgp texture ground.x3p --level --json texture.json"""
+
+_FILL = """\
+Fill the unmeasured (NaN) points of a surface, e.g. the non-measured points an optical
+instrument leaves at steep flanks: the surface is levelled (least-squares plane), eq 18 plus
+white noise is fitted to the measured points alone (block composite likelihood,
+roughgp.block_fit), and the missing points get the GP posterior mean (roughgp.gap_filling,
+conjugate gradients with FFT products). --sd also writes the posterior standard deviation
+at the filled points (pathwise draws). Suited to stationary, ground-like textures; heights
+and lengths in um.
+
+example:
+  roughgp fill measured.x3p --out filled.x3p --sd sd.x3p --seed 0"""
 
 _INPUT = f"""\
 input formats: {', '.join(READ_FORMATS)}
@@ -859,6 +936,26 @@ def build_parser() -> argparse.ArgumentParser:
                    help="refer heights to the least-squares plane / line (default: the mean)")
     x.add_argument("--json", metavar="OUT", help="also write the parameters as JSON")
     x.set_defaults(func=cmd_texture)
+
+    f = sub.add_parser("fill", formatter_class=_formatter, description=_FILL, epilog=_INPUT,
+                       help="fill the missing (NaN) points of a surface with the GP")
+    f.add_argument("file", metavar="FILE", help="the surface, heights in um, NaN where missing")
+    f.add_argument("--spacing", type=float, metavar="D",
+                   help="the grid spacing in um, overriding the file's")
+    f.add_argument("--out", required=True, metavar="FILE",
+                   help="the filled surface: " + ", ".join(WRITE_FORMATS))
+    f.add_argument("--sd", metavar="FILE", help="also write the posterior sd map")
+    f.add_argument("--samples", type=int, default=16, metavar="N",
+                   help="pathwise draws for the sd (default 16; 0: the mean only)")
+    f.add_argument("--seed", type=int, default=0, metavar="S",
+                   help="seed of the blocks chosen for the fit and of the draws (default 0)")
+    f.add_argument("--block", type=int, default=24, metavar="B",
+                   help="side of the fit's blocks in points (default 24)")
+    f.add_argument("--blocks", type=int, default=12, metavar="K",
+                   help="blocks used by the fit (default 12)")
+    f.add_argument("--device", metavar="DEV",
+                   help="run the fill's FFTs and CG through torch on DEV (cpu, cuda, cuda:N)")
+    f.set_defaults(func=cmd_fill)
     return parser
 
 

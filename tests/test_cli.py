@@ -314,3 +314,57 @@ def test_texture_flat_surface_prints_nan(capsys, tmp_path):
     assert "nan" in out
     record = json.loads((tmp_path / "flat.json").read_text(), parse_constant=pytest.fail)
     assert record["parameters"]["Ssk"] is None and record["parameters"]["Sq"] == 0.0
+
+
+# ------------------------------------------------------------------ fill
+
+
+def _holed_surface(tmp_path, name="holes.npy"):
+    from roughgp import surfaces
+    z = surfaces.ground((48, 56), variance=2.0, lengthscales=(10.0, 3.0), angle=0.4,
+                        noise_variance=0.05, seed=3) + 0.02 * np.arange(56)[None, :]
+    z[np.random.default_rng(4).random(z.shape) < 0.1] = np.nan
+    z[20:23, 5:50] = np.nan
+    path = tmp_path / name
+    np.save(path, z)
+    return path, z
+
+
+def test_fill_writes_the_filled_surface_and_its_sd(capsys, tmp_path):
+    path, z = _holed_surface(tmp_path)
+    out, sd = tmp_path / "filled.npy", tmp_path / "sd.npy"
+    code, _, err = _run(capsys, "fill", path, "--out", out, "--sd", sd, "--block", 12,
+                        "--blocks", 6, "--samples", 4, "--seed", 1)
+    assert code == 0, err
+    assert "eq 18 fitted on" in err and "missing (" in err
+    filled, spread = np.load(out), np.load(sd)
+    missing = np.isnan(z)
+    assert filled.shape == z.shape and np.all(np.isfinite(filled))
+    np.testing.assert_array_equal(filled[~missing], z[~missing])  # measured points kept
+    # the tilt (0.02 per point) is added back: the filled row follows its neighbours
+    assert abs(np.mean(filled[21, 5:50]) - np.nanmean(z[[18, 25], 5:50])) < 1.0
+    assert np.all(spread[~missing] == 0) and np.all(spread[missing] > 0)
+
+
+@pytest.mark.parametrize("extra, message", [
+    (("--samples", "1", "--sd", "SD"), "--sd needs --samples >= 2"),
+    (("--samples", "-1"), "--samples must be >= 0"),
+    (("--device", "gpu"), "--device must be None"),
+    (("--block", "3"), "block must be an integer >= 4"),
+])
+def test_fill_rejects_bad_options(capsys, tmp_path, extra, message):
+    path, _ = _holed_surface(tmp_path)
+    extra = [str(tmp_path / "sd.npy") if e == "SD" else e for e in extra]
+    code, _, err = _run(capsys, "fill", path, "--out", tmp_path / "f.npy", *extra)
+    assert code == 2 and message in err
+
+
+def test_fill_needs_a_surface_with_holes(capsys, tmp_path):
+    complete = tmp_path / "complete.npy"
+    np.save(complete, np.zeros((16, 16)))
+    code, _, err = _run(capsys, "fill", complete, "--out", tmp_path / "f.npy")
+    assert code == 2 and "no missing (NaN) point: nothing to fill" in err
+    profile = tmp_path / "profile.npy"
+    np.save(profile, np.r_[np.zeros(10), np.nan])
+    code, _, err = _run(capsys, "fill", profile, "--out", tmp_path / "f.npy")
+    assert code == 2 and "holds a profile" in err
