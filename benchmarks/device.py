@@ -11,8 +11,8 @@ Cases (each timed as the best of ``--repeats`` calls, on the GPU after one untim
 * ``patch likelihood``: one evaluation of the dense marginal likelihood of an n x n patch
   (posterior.ground_patch_model; what a maximum-likelihood or MCMC fit of eq 18 repeats).
 * ``profile likelihood``: one evaluation for an n-point profile: the exact Toeplitz
-  likelihood (O(n^2), CPU only: roughgp.fitting uses it whatever the device) against the
-  dense likelihood of a 1 x n patch on each device.
+  likelihood (O(n^2), the numpy path of roughgp.toeplitz) against its dense route on each
+  device (what toeplitz_log_likelihood and fit_spectral_mixture run with device=).
 * ``gap filling``: fill_gaps on an n x n ground surface with 10 % scattered dropouts and a
   scratch, 16 pathwise draws for the sd.
 * ``spectral mixture fit``: fit_spectral_mixture with Q = 5 on an n-point two-line profile
@@ -101,14 +101,9 @@ def case(name, n, backend):
     if name == "profile likelihood":
         x = np.arange(n, dtype=np.float64)
         z = np.sin(2 * np.pi * x / 250) + 0.1 * np.random.default_rng(0).standard_normal(n)
-        acvf = lambda lags: 0.5 * np.cos(2 * np.pi * lags[..., 0] / 250) * np.exp(  # noqa
-            -2 * np.pi**2 * 1e-6 * lags[..., 0] ** 2)
-        if device is None:
-            r = acvf(x[:, None])
-            r[0] += 0.01
-            return lambda: toeplitz_log_likelihood(z, r)
-        loglik = posterior.grid_likelihood(z[None, :], 1.0, lambda p: acvf, device=device)
-        return lambda: loglik({"noise_variance": 0.01})
+        r = 0.5 * np.cos(2 * np.pi * x / 250) * np.exp(-2 * np.pi**2 * 1e-6 * x**2)
+        r[0] += 0.01
+        return lambda: toeplitz_log_likelihood(z, r, device=device)
     if name == "gap filling":
         z = _gappy_surface(n)
         kernel = kernels.RotatedExponentialKernel(**SHORT)

@@ -8,6 +8,11 @@ on another device (a CUDA GPU) when given ``device=``:
 * :func:`roughgp.posterior.grid_likelihood` and :func:`roughgp.posterior.ground_patch_model`:
   the dense marginal likelihood of a surface patch (eq 12), so maximum-likelihood or MCMC
   fits of eq 18 to patches far beyond :data:`roughgp.posterior.MAX_GRID_POINTS`;
+* :func:`roughgp.toeplitz.toeplitz_log_likelihood` and
+  :func:`roughgp.fitting.fit_spectral_mixture` (section 3.3): a profile's likelihood and
+  gradient by a dense Cholesky factorisation on the device instead of the :math:`O(n^2)`
+  recursion on the CPU (the same numbers; on a GPU the faster route for the paper's profile
+  lengths, while the optimiser itself stays on the CPU);
 * :func:`roughgp.gap_filling.fill_gaps`: the FFT products and the batched conjugate
   gradients.
 
@@ -22,9 +27,8 @@ numpy, torch-CPU and CUDA streams differ (same distribution, different numbers).
 call draws little noise against its work (dense Cholesky and Lanczos draws) the noise is
 drawn by numpy as on the CPU, so those draws agree with ``device=None`` to rounding.
 
-Profiles are fitted on the CPU whatever the device (:mod:`roughgp.fitting`): the exact
-Toeplitz likelihood costs :math:`O(n^2)`, where a GPU would need the :math:`O(n^3)` dense
-solve; ``benchmarks/device.py`` measures both.
+``benchmarks/device.py`` measures every path side by side; ``tests/test_device.py`` checks
+them against numpy (on CUDA too, where torch sees a GPU).
 """
 
 from __future__ import annotations
