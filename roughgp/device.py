@@ -33,13 +33,14 @@ them against numpy (on CUDA too, where torch sees a GPU).
 
 from __future__ import annotations
 
+import math
 import os
 
 import numpy as np
 import torch
 
 __all__ = ["resolve", "generator", "free_bytes", "check_memory", "available", "to_numpy",
-           "synchronize"]
+           "synchronize", "gaussian_log_density"]
 
 
 def resolve(device, name: str = "device") -> torch.device | None:
@@ -111,6 +112,18 @@ def available() -> list[str]:
 def to_numpy(tensor: torch.Tensor) -> np.ndarray:
     """A tensor on any device as a numpy array on the host."""
     return tensor.detach().cpu().numpy()
+
+
+def gaussian_log_density(covariance: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
+    """log N(y | 0, covariance) by a Cholesky factor where the tensors lie (eq 12), as a torch
+    scalar (differentiable); ``np.linalg.LinAlgError`` where the covariance is not positive
+    definite."""
+    factor, failed = torch.linalg.cholesky_ex(covariance)
+    if int(failed):
+        raise np.linalg.LinAlgError("covariance not positive definite (Cholesky failed)")
+    alpha = torch.cholesky_solve(y[:, None], factor)[:, 0]
+    return (-0.5 * (y @ alpha) - torch.log(factor.diagonal()).sum()
+            - 0.5 * y.numel() * math.log(2.0 * math.pi))
 
 
 def synchronize(device: torch.device | None) -> None:

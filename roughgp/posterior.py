@@ -34,7 +34,7 @@ import numpy as np
 import scipy.linalg
 
 from roughgp._checks import as_generator, check_finite, check_integer, check_positive
-from roughgp.device import check_memory
+from roughgp.device import check_memory, gaussian_log_density
 from roughgp.device import resolve as resolve_device
 from roughgp.grid import normalize
 from roughgp.sampling import grid_covariance
@@ -348,12 +348,10 @@ def grid_likelihood(z, spacing, kernel_factory: Callable, *, device=None) -> Cal
         def loglik_on_device(params):
             cov = grid_covariance(kernel_factory(params), shape, spacing, device=device)
             cov.diagonal().add_(params.get("noise_variance", 0.0))
-            factor, failed = torch.linalg.cholesky_ex(cov)
-            del cov
-            if int(failed):
-                raise ValueError(not_pd)
-            alpha = torch.cholesky_solve(y_dev[:, None], factor)[:, 0]
-            return float(-0.5 * (y_dev @ alpha) - torch.log(factor.diagonal()).sum() - const)
+            try:
+                return float(gaussian_log_density(cov, y_dev))
+            except np.linalg.LinAlgError:
+                raise ValueError(not_pd) from None
 
         return loglik_on_device
 

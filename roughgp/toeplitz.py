@@ -131,7 +131,7 @@ def _dense_core(z, r, gradient, device):
     """:func:`_toeplitz_core`'s numbers by a dense Cholesky factorisation on ``device``."""
     import torch
 
-    from roughgp.device import check_memory
+    from roughgp.device import check_memory, gaussian_log_density
 
     n = z.size
     key = (n, str(device))
@@ -145,12 +145,7 @@ def _dense_core(z, r, gradient, device):
     r_t = torch.as_tensor(r, device=device).requires_grad_(gradient)
     z_t = torch.as_tensor(z, device=device)
     with torch.set_grad_enabled(gradient):
-        factor, failed = torch.linalg.cholesky_ex(r_t[index])
-        if int(failed):
-            raise np.linalg.LinAlgError("covariance not positive definite (Cholesky failed)")
-        alpha = torch.cholesky_solve(z_t[:, None], factor)[:, 0]
-        loglik = (-0.5 * (z_t @ alpha) - torch.log(factor.diagonal()).sum()
-                  - 0.5 * n * math.log(2.0 * math.pi))
+        loglik = gaussian_log_density(r_t[index], z_t)
     if not gradient:
         return float(loglik), None
     (grad,) = torch.autograd.grad(loglik, r_t)
