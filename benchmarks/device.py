@@ -1,4 +1,4 @@
-"""Benchmark of the ``device=`` paths (roughgp.device): numpy on the CPU, torch on the CPU and,
+"""Benchmark of the ``device=`` paths (roughgp.common.device): numpy on the CPU, torch on the CPU and,
 where torch sees one, torch on a CUDA GPU, side by side in one run.
 
 Cases (each timed as the best of ``--repeats`` calls, on the GPU after one untimed warm-up):
@@ -11,7 +11,7 @@ Cases (each timed as the best of ``--repeats`` calls, on the GPU after one untim
 * ``patch likelihood``: one evaluation of the dense marginal likelihood of an n x n patch
   (posterior.ground_patch_model; what a maximum-likelihood or MCMC fit of eq 18 repeats).
 * ``profile likelihood``: one evaluation for an n-point profile: the exact Toeplitz
-  likelihood (O(n^2), the numpy path of roughgp.toeplitz) against its dense route on each
+  likelihood (O(n^2), the numpy path of roughgp.gp.toeplitz) against its dense route on each
   device (what toeplitz_log_likelihood and fit_spectral_mixture run with device=).
 * ``gap filling``: fill_gaps on an n x n ground surface with 10 % scattered dropouts and a
   scratch, 16 pathwise draws for the sd.
@@ -38,9 +38,13 @@ import time
 import numpy as np
 import torch
 
-from roughgp import device as devices
-from roughgp import fitting, gap_filling, kernels, posterior, sampling, surfaces
-from roughgp.toeplitz import toeplitz_log_likelihood
+from roughgp import sampling
+from roughgp.beyond import gap_filling
+from roughgp.common import device as devices
+from roughgp.gp import kernels
+from roughgp.gp.toeplitz import toeplitz_log_likelihood
+from roughgp.inference import fitting, posterior
+from roughgp.models import surfaces
 
 FIGURE_2 = dict(variance=10.0, lengthscales=(500.0, 5.0), angle=math.pi / 6)
 SHORT = dict(variance=10.0, lengthscales=(30.0, 5.0), angle=math.pi / 6)

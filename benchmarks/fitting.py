@@ -1,11 +1,11 @@
-"""Benchmark of roughgp.fitting.fit_spectral_mixture (section 3.3) against the issue's targets:
+"""Benchmark of roughgp.inference.fitting.fit_spectral_mixture (section 3.3) against the issue's targets:
 Q = 5 on an 8,192-point profile in under 60 s, Q = 10 on 16,384 points in under 5 minutes.
 
 The profile: one circulant draw of a known two-component spectral mixture (periods 20 and 5
 samples) plus white noise of variance 0.01. Prints, per case, the wall time, the number of
 likelihood-and-gradient evaluations, the log marginal likelihood and the dominant fitted
 frequency against the truth. Then the period-recovery target: Q = 5 fitted to turned
-profiles of :mod:`roughgp.data` (8,192 points at 1 um, feed 250 um) for 10 seeds; the fitted
+profiles of :mod:`roughgp.models.turned` (8,192 points at 1 um, feed 250 um) for 10 seeds; the fitted
 dominant period should be within 1 % of the feed in at least 9. Not a test: run it by hand,
 
     python benchmarks/fitting.py                 # all (about 11 minutes on 2 cores)
@@ -19,7 +19,10 @@ import time
 
 import numpy as np
 
-from roughgp import data, fitting, kernels, sampling
+from roughgp import sampling
+from roughgp.gp import kernels
+from roughgp.inference import fitting
+from roughgp.models import turned
 
 TARGETS = {(8192, 5): 60.0, (16384, 10): 300.0}
 
@@ -53,12 +56,12 @@ def main():
               f"{evals:>6} {fit.log_marginal_likelihood:>12.2f} {fit.means[0]:>11.5f} "
               f"{0.05:>7.5f}", flush=True)
     if args.seeds:
-        feed = data.RUBERT_LIKE.feed
+        feed = turned.RUBERT_LIKE.feed
         print(f"\nperiod recovery, Q = 5, 8192 points at 1 um, feed {feed:g} um")
         print(f"{'seed':>4} {'time [s]':>9} {'period [um]':>12} {'error [%]':>10}")
         hits = 0
         for seed in range(args.seeds):
-            x, z = data.turned_profile(8192, spacing=1.0, seed=seed)
+            x, z = turned.turned_profile(8192, spacing=1.0, seed=seed)
             start = time.perf_counter()
             fit = fitting.fit_spectral_mixture(x, z, 5, seed=seed)
             error = 100 * (fit.dominant_period / feed - 1)

@@ -21,7 +21,9 @@ import time
 CASE = r'''
 import json, math, resource, sys, time
 import numpy as np
-from roughgp import fft_filter, kernels, sampling
+from roughgp.sampling import fft_filter
+from roughgp.gp import kernels
+from roughgp import sampling
 method, n, dtype, draws = sys.argv[1], int(sys.argv[2]), sys.argv[3], int(sys.argv[4])
 kernel = kernels.RotatedExponentialKernel(variance=10.0, lengthscales=(500.0, 5.0), angle=math.pi / 6)
 times = []

@@ -3,19 +3,23 @@
 An executable companion to Jawaid & Seewig, "Model of rough surfaces with Gaussian
 processes" (Surf. Topogr.: Metrol. Prop.). Equation numbers in docstrings are the paper's.
 
-Modules, bottom up: :mod:`roughgp.acvf` (ACVFs and PSDs as plain functions),
-:mod:`roughgp.kernels` (the same as GPyTorch kernels), :mod:`roughgp.fourier` (the
-Wiener-Khinchin transforms of eq 5 on a grid), :mod:`roughgp.spectral` (periodogram,
-Welch, empirical ACVF), :mod:`roughgp.sampling` (draws of eq 10), :mod:`roughgp.plotting`
-(the book's figure style); then the models: :mod:`roughgp.arma` (section 2.3),
-:mod:`roughgp.surfaces` (ground and honed, eq 18-20), :mod:`roughgp.texture` (ISO
-parameters), :mod:`roughgp.toeplitz` and :mod:`roughgp.fitting` (the spectral-mixture fit of
-section 3.3), :mod:`roughgp.posterior` (hyperparameter posteriors with emcee),
-:mod:`roughgp.data` (synthetic turned profiles and surfaces) and :mod:`roughgp.readers` /
-:mod:`roughgp.levelling` (the user's own measurements). Beyond the paper:
-:mod:`roughgp.non_gaussian`, :mod:`roughgp.targets`, :mod:`roughgp.gap_filling` with
-:mod:`roughgp.block_fit`, and :mod:`roughgp.device` (the ``device=`` argument: the same calls
-through torch on a GPU).
+The subpackages, bottom up; each may import only those before it (a test checks it):
+
+* :mod:`roughgp.common`: input checks, grid conventions, devices, settings, the figure style;
+* :mod:`roughgp.gp`: the GP itself: ACVFs and PSDs (eq 18, 21, 22, Matérn), GPyTorch kernels,
+  eq 5 on a grid, the noise model (eq 8), a profile's exact likelihood;
+* :mod:`roughgp.sampling`: draws on a grid (eq 10: Cholesky, Lanczos, circulant embedding),
+  the FFT-filter baseline, sampling diagnostics;
+* :mod:`roughgp.metrology`: measurements read and written, levelling, ISO texture parameters,
+  spectra, periodicity;
+* :mod:`roughgp.models`: ARMA (eq 12-14), moving averages (eq 16-17), ground and honed
+  surfaces (eq 18-20), synthetic turned data;
+* :mod:`roughgp.inference`: the spectral-mixture fit (eq 21), posteriors by MCMC, eq 18 on a
+  map with holes;
+* :mod:`roughgp.beyond`: beyond the paper: non-Gaussian heights, prescribed roughness, gap
+  filling;
+* :mod:`roughgp.ledger`: the claims ledger (one check per claim of the paper);
+* :mod:`roughgp.cli`: the ``roughgp`` command.
 """
 
 __version__ = "0.1.0"

@@ -1,4 +1,4 @@
-"""Tests of roughgp.acvf: values, symmetry, positive semi-definiteness, PSDs, torch/NumPy
+"""Tests of roughgp.gp.acvf: values, symmetry, positive semi-definiteness, PSDs, torch/NumPy
 agreement and input checks (Jawaid & Seewig, section 2.1, eq 5, 18, 21, 22)."""
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ import pytest
 import torch
 from scipy import integrate, special
 
-from roughgp import acvf as A
+from roughgp.gp import acvf as A
 
 PI = math.pi
 

@@ -1,4 +1,4 @@
-"""Tests of roughgp.arma: exact ACVFs against closed forms and an independent spectral
+"""Tests of roughgp.models.arma: exact ACVFs against closed forms and an independent spectral
 integral, linear-process weights, seeded simulation, exact likelihoods, sampled GPs as ARMA."""
 
 import math
@@ -8,10 +8,18 @@ import pytest
 from scipy.linalg import toeplitz
 from scipy.stats import multivariate_normal
 
-from roughgp import arma
-from roughgp.arma import (
-    acvf_from_weights, ar1_to_ou, arma_acvf, arma_log_likelihood, gp_log_likelihood,
-    linear_process_weights, matern32_to_arma21, ou_to_ar1, simulate_arma, yule_walker,
+from roughgp.models import arma
+from roughgp.models.arma import (
+    acvf_from_weights,
+    ar1_to_ou,
+    arma_acvf,
+    arma_log_likelihood,
+    gp_log_likelihood,
+    linear_process_weights,
+    matern32_to_arma21,
+    ou_to_ar1,
+    simulate_arma,
+    yule_walker,
 )
 
 

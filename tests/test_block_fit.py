@@ -1,4 +1,4 @@
-"""Tests of roughgp.block_fit: eq 18 plus noise fitted to the measured points of a map with
+"""Tests of roughgp.inference.block_fit: eq 18 plus noise fitted to the measured points of a map with
 holes by maximum block composite likelihood."""
 
 from __future__ import annotations
@@ -9,8 +9,8 @@ import math
 import numpy as np
 import pytest
 
-from roughgp import surfaces
-from roughgp.block_fit import fit_ground_to_valid_points
+from roughgp.inference.block_fit import fit_ground_to_valid_points
+from roughgp.models import surfaces
 
 TRUTH = surfaces.GrooveParameters(variance=4.0, lengthscales=(12.0, 3.0), angle=-0.6)
 NOISE = 0.1

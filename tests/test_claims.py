@@ -1,4 +1,4 @@
-"""Tests of the claims ledger (roughgp.claims, roughgp.claim_checks).
+"""Tests of the claims ledger (roughgp.ledger: types, checks, table, runner).
 
 The quick checks run here; the slow ones (figures 2, 3, 5, 7: seconds to a minute each) run
 in the chapter "Claims ledger", which nbmake executes, and through `roughgp reproduce`."""
@@ -8,8 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from roughgp import claims
-from roughgp.claims import CLAIMS, VERDICTS, Check, Claim, Outcome
+from roughgp import ledger
+from roughgp.ledger import CLAIMS, VERDICTS, Check, Claim, Outcome, runner
 
 BOOK = Path(__file__).resolve().parents[1] / "book"
 QUICK = ["eq5-duality", "fig1-acvf", "sec2.3-ma-finite", "sec2.3-arma-linear",
@@ -20,7 +20,7 @@ QUICK = ["eq5-duality", "fig1-acvf", "sec2.3-ma-finite", "sec2.3-arma-linear",
 
 
 def test_the_ledger_covers_what_the_issue_asks():
-    keys = claims.claim_keys()
+    keys = ledger.claim_keys()
     assert len(keys) == len(set(keys))                      # unique keys
     for key in ("eq5-duality", "fig1-acvf", "fig2-simulation", "fig2-acvf",
                 "sec3.1-error-values", "fig3-crosshatch", "fig5-periodicity",
@@ -38,7 +38,7 @@ def test_the_ledger_covers_what_the_issue_asks():
 
 @pytest.mark.parametrize("key", QUICK)
 def test_quick_checks_hold(key):
-    (outcome,) = claims.run(only=[key])
+    (outcome,) = ledger.run(only=[key])
     assert outcome.error is None, outcome.error
     assert outcome.holds, f"{key} regressed: {outcome.value}"
     assert not outcome.regressed and outcome.status == "ok"
@@ -46,7 +46,7 @@ def test_quick_checks_hold(key):
 
 def test_unknown_key_is_refused_with_the_list():
     with pytest.raises(ValueError, match="unknown claim 'fig99'.*eq5-duality"):
-        claims.run(only=["fig99"])
+        ledger.run(only=["fig99"])
 
 
 def test_claims_are_validated():
@@ -60,13 +60,13 @@ def test_claims_are_validated():
 
 def _fake(monkeypatch, check):
     fake = Claim("fake", "Sec 0", "a | claim", "1", "0", "reproduced", "", "notation", check)
-    monkeypatch.setattr(claims, "CLAIMS", (fake,))
+    monkeypatch.setattr(runner, "CLAIMS", (fake,))
     return fake
 
 
 def test_a_failing_check_regresses(monkeypatch):
     _fake(monkeypatch, lambda full: Check("2", False))
-    (outcome,) = claims.run()
+    (outcome,) = ledger.run()
     assert outcome.regressed and outcome.status == "REGRESSED"
 
 
@@ -74,15 +74,15 @@ def test_a_raising_check_is_reported_not_raised(monkeypatch):
     def broken(full):
         raise RuntimeError("boom")
     _fake(monkeypatch, broken)
-    (outcome,) = claims.run()
+    (outcome,) = ledger.run()
     assert outcome.status == "ERROR" and "RuntimeError: boom" in outcome.error
 
 
 def test_full_flag_reaches_the_check(monkeypatch):
     seen = []
     _fake(monkeypatch, lambda full: seen.append(full) or Check("1", True))
-    claims.run(full=True)
-    claims.run()
+    ledger.run(full=True)
+    ledger.run()
     assert seen == [True, False]
 
 
@@ -97,25 +97,25 @@ def test_figures_are_saved_and_tables_written(monkeypatch, tmp_path):
         return Check("1.0", True, fig)
     _fake(monkeypatch, with_figure)
     lines = []
-    outcomes = claims.run(figures_dir=tmp_path / "figures", progress=lines.append)
+    outcomes = ledger.run(figures_dir=tmp_path / "figures", progress=lines.append)
     assert (tmp_path / "figures" / "fake.png").stat().st_size > 1000
     assert outcomes[0].figure == str(tmp_path / "figures" / "fake.png")
     assert any("fake: ok" in line for line in lines)
-    md, js = claims.write(outcomes, tmp_path / "out")
+    md, js = ledger.write(outcomes, tmp_path / "out")
     text = md.read_text()
     assert "a \\| claim" in text                              # pipes escaped in the table
     assert "**reproduced**" in text
     records = json.loads(js.read_text())
     assert records[0]["key"] == "fake" and records[0]["status"] == "ok"
-    assert "(notation.ipynb)" in claims.to_markdown(outcomes, chapter_links=True)
-    short = claims.to_markdown(outcomes, summary=True)
+    assert "(notation.ipynb)" in ledger.to_markdown(outcomes, chapter_links=True)
+    short = ledger.to_markdown(outcomes, summary=True)
     assert short.splitlines()[0] == "| where | claim | verdict | status |"
-    details = claims.to_markdown_details(outcomes, chapter_links=True)
+    details = ledger.to_markdown_details(outcomes, chapter_links=True)
     assert "[Sec 0](notation.ipynb)" in details and "ours: 1.0" in details
     assert plt.get_fignums() == []                            # figures closed
 
 
 def test_not_checkable_claims_do_not_run():
     key = next(c.key for c in CLAIMS if c.verdict == "not checkable")
-    (outcome,) = claims.run(only=[key])
+    (outcome,) = ledger.run(only=[key])
     assert outcome.value == "-" and not outcome.regressed and outcome.status == "not run"

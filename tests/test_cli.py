@@ -14,8 +14,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from roughgp import claims, readers
-from roughgp.cli import MAX_SIMULATE_POINTS, main
+from roughgp import ledger
+from roughgp.cli.main import main
+from roughgp.cli.simulate import MAX_SIMULATE_POINTS
+from roughgp.metrology import readers
 
 SHAPES = {"ground": (16, 24), "honed": (16, 24), "turned": (32, 48)}
 
@@ -37,7 +39,7 @@ def _simulate(capsys, tmp_path, kind, name, seed=1, shape=None, *extra):
 
 
 def _read_back(path):
-    """The heights of a file written by ``simulate``, read with roughgp.readers."""
+    """The heights of a file written by ``simulate``, read with roughgp.metrology.readers."""
     if path.suffix == ".npy":
         return np.load(path)
     if path.suffix == ".x3p":
@@ -84,27 +86,27 @@ def test_console_script():
 def test_reproduce_list(capsys):
     code, out, _ = _run(capsys, "reproduce", "--list")
     assert code == 0
-    for key in claims.claim_keys():
+    for key in ledger.claim_keys():
         assert key in out
 
 
 def test_reproduce_one_claim_writes_the_ledger(capsys, tmp_path):
-    expected = claims.run(only=["eq5-duality"])[0]
+    expected = ledger.run(only=["eq5-duality"])[0]
     code, out, err = _run(capsys, "reproduce", "--only", "eq5-duality", "--out", tmp_path)
     assert code == (1 if expected.regressed else 0), err
     assert "eq5-duality" in out and "eq5-duality" in err  # table and progress
     assert all(len(line) <= 100 for line in out.splitlines())
     records = json.loads((tmp_path / "ledger.json").read_text())
     assert [r["key"] for r in records] == ["eq5-duality"]
-    ledger = (tmp_path / "ledger.md").read_text()
-    assert ledger.startswith("# roughgp claims ledger")
-    assert claims.claim("eq5-duality").where in ledger
+    markdown = (tmp_path / "ledger.md").read_text()
+    assert markdown.startswith("# roughgp claims ledger")
+    assert ledger.claim("eq5-duality").where in markdown
     assert (tmp_path / "figures").is_dir()
 
 
 def test_reproduce_exits_1_and_names_a_regression(capsys, monkeypatch):
-    c = claims.claim("eq5-duality")
-    monkeypatch.setattr(claims, "run", lambda **kw: [claims.Outcome(c, "way off", False, 0.1)])
+    c = ledger.claim("eq5-duality")
+    monkeypatch.setattr(ledger, "run", lambda **kw: [ledger.Outcome(c, "way off", False, 0.1)])
     code, out, err = _run(capsys, "reproduce", "--only", "eq5-duality")
     assert code == 1
     assert "REGRESSED" in out and "eq5-duality" in err
@@ -207,7 +209,7 @@ def test_simulate_errors(capsys, tmp_path):
 # ------------------------------------------------------------------ simulate ground --target
 
 def test_simulate_ground_with_target(capsys, tmp_path):
-    from roughgp import targets
+    from roughgp.beyond import targets
     path, err = _simulate(capsys, tmp_path, "ground", "t.npy", 2, (96, 96), "--target",
                           "Sq=1.0", "Sal=4", "Str=0.25", "Std=30", "--noise-variance", 0.05)
     hyper = targets.hyperparameters_for(1.0, 4.0, 0.25, 30.0, noise_variance=0.05)
@@ -320,7 +322,7 @@ def test_texture_flat_surface_prints_nan(capsys, tmp_path):
 
 
 def _holed_surface(tmp_path, name="holes.npy"):
-    from roughgp import surfaces
+    from roughgp.models import surfaces
     z = surfaces.ground((48, 56), variance=2.0, lengthscales=(10.0, 3.0), angle=0.4,
                         noise_variance=0.05, seed=3) + 0.02 * np.arange(56)[None, :]
     z[np.random.default_rng(4).random(z.shape) < 0.1] = np.nan

@@ -1,4 +1,4 @@
-"""Tests of the ``device=`` paths (roughgp.device): torch on the CPU against the numpy paths,
+"""Tests of the ``device=`` paths (roughgp.common.device): torch on the CPU against the numpy paths,
 and, where torch sees a GPU, the same checks on ``"cuda"`` (skipped without one).
 
 The torch paths must give the numbers of the numpy paths where both draw the same noise
@@ -15,9 +15,13 @@ import numpy as np
 import pytest
 import torch
 
-from roughgp import device as dev
-from roughgp import fitting, gap_filling, kernels, posterior, sampling, surfaces, toeplitz
-from roughgp.cli import main
+from roughgp import sampling
+from roughgp.beyond import gap_filling
+from roughgp.cli.main import main
+from roughgp.common import device as dev
+from roughgp.gp import kernels, toeplitz
+from roughgp.inference import fitting, posterior
+from roughgp.models import surfaces
 
 HAS_CUDA = torch.cuda.is_available()
 DEVICES = ["cpu", pytest.param("cuda", marks=pytest.mark.skipif(

@@ -1,4 +1,4 @@
-"""Tests of roughgp.fitting: the exact Toeplitz likelihood and gradient, and the
+"""Tests of roughgp.inference.fitting: the exact Toeplitz likelihood and gradient, and the
 spectral-mixture fit of section 3.3 (small profiles, so the file runs in seconds)."""
 
 import math
@@ -8,7 +8,9 @@ import pytest
 from scipy.linalg import cho_factor, cho_solve
 from scipy.stats import multivariate_normal
 
-from roughgp import fitting, kernels, sampling
+from roughgp import sampling
+from roughgp.gp import kernels
+from roughgp.inference import fitting
 
 W = np.array([1.0, 0.3])
 MU = np.array([0.1, 0.02])  # cycles per unit of x
@@ -202,11 +204,11 @@ def test_likelihood_input_errors(small_profile):
 def test_turned_profile_feed_recovered_to_one_percent_in_nine_of_ten_seeds():
     """The issue's target: across 10 seeds the fitted dominant period is the feed to 1 %
     (at a quarter of the chapter's length, 2048 points at 2 um, to keep the test short)."""
-    from roughgp import data
-    feed = data.RUBERT_LIKE.feed
+    from roughgp.models import turned
+    feed = turned.RUBERT_LIKE.feed
     errors = []
     for seed in range(10):
-        x, z = data.turned_profile(2048, spacing=2.0, seed=seed)
+        x, z = turned.turned_profile(2048, spacing=2.0, seed=seed)
         fit = fitting.fit_spectral_mixture(x, z, 5, seed=seed, n_candidates=6, n_optimise=2)
         errors.append(fit.dominant_period / feed - 1.0)
     assert sum(abs(e) < 0.01 for e in errors) >= 9, errors

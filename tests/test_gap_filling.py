@@ -1,12 +1,12 @@
-"""Gap filling by the GP posterior (roughgp.gap_filling): CG against dense algebra."""
+"""Gap filling by the GP posterior (roughgp.beyond.gap_filling): CG against dense algebra."""
 
 import math
 
 import numpy as np
 import pytest
 
-from roughgp.gap_filling import ToeplitzOperator, conjugate_gradients, fill_gaps
-from roughgp.kernels import MaternKernel, RotatedExponentialKernel
+from roughgp.beyond.gap_filling import ToeplitzOperator, conjugate_gradients, fill_gaps
+from roughgp.gp.kernels import MaternKernel, RotatedExponentialKernel
 from roughgp.sampling import grid_covariance, sample_grid
 
 SHAPE = (20, 24)

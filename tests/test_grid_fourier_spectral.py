@@ -1,7 +1,7 @@
-"""Tests of roughgp.grid (layout conventions), roughgp.fourier (eq 5 on a grid) and
-roughgp.spectral (periodogram, Welch, empirical ACVF) -- Jawaid & Seewig, section 2.1-2.2.
+"""Tests of roughgp.common.grid (layout conventions), roughgp.gp.fourier (eq 5 on a grid) and
+roughgp.metrology.spectral (periodogram, Welch, empirical ACVF) -- Jawaid & Seewig, section 2.1-2.2.
 
-Conventions under test (roughgp.grid): arrays are ``z[iy, ix]``, ``shape``/``spacing`` are in
+Conventions under test (roughgp.common.grid): arrays are ``z[iy, ix]``, ``shape``/``spacing`` are in
 array order ``(ny, nx)``/``(dy, dx)``, and points/lags/frequencies carry their components in
 coordinate order ``(x, y)`` on a trailing axis.
 """
@@ -14,7 +14,9 @@ import numpy as np
 import pytest
 from scipy import special
 
-from roughgp import fourier, grid, spectral
+from roughgp.common import grid
+from roughgp.gp import fourier
+from roughgp.metrology import spectral
 
 PI = math.pi
 

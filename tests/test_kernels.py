@@ -1,4 +1,4 @@
-"""Tests of roughgp.kernels: the GPyTorch kernels evaluate the plain ACVFs of roughgp.acvf
+"""Tests of roughgp.gp.kernels: the GPyTorch kernels evaluate the plain ACVFs of roughgp.gp.acvf
 (eq 18, 21, 22, Matérn), keep their hyperparameters positive and learnable, and validate input."""
 
 from __future__ import annotations
@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 import torch
 
-from roughgp import acvf as A
-from roughgp import kernels as K
+from roughgp.gp import acvf as A
+from roughgp.gp import kernels as K
 
 PI = math.pi
 F64 = torch.float64

@@ -1,11 +1,11 @@
-"""Tests of roughgp.mixture_posterior: relabelling eq 21's components, predictive profiles."""
+"""Tests of roughgp.inference.mixture_posterior: relabelling eq 21's components, predictive profiles."""
 
 import math
 
 import numpy as np
 import pytest
 
-from roughgp import mixture_posterior as mp
+from roughgp.inference import mixture_posterior as mp
 
 
 def draws():

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from roughgp import moving_average as ma
+from roughgp.models import moving_average as ma
 
 
 @pytest.mark.parametrize("step", [1.0, 0.3, 0.05])

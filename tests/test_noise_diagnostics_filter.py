@@ -6,7 +6,9 @@ import math
 import numpy as np
 import pytest
 
-from roughgp import diagnostics, fft_filter, kernels, noise, sampling
+from roughgp import sampling
+from roughgp.gp import kernels, noise
+from roughgp.sampling import diagnostics, fft_filter
 
 
 def test_gaussian_noise_adds_its_variance_and_is_seeded():

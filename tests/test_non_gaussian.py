@@ -1,4 +1,4 @@
-"""Tests of roughgp.non_gaussian: the Johnson fit, the correlation map g and the surfaces."""
+"""Tests of roughgp.beyond.non_gaussian: the Johnson fit, the correlation map g and the surfaces."""
 
 import math
 import warnings
@@ -6,9 +6,9 @@ import warnings
 import numpy as np
 import pytest
 
-from roughgp import non_gaussian as ng
-from roughgp import spectral, texture
-from roughgp.kernels import MaternKernel
+from roughgp.beyond import non_gaussian as ng
+from roughgp.gp.kernels import MaternKernel
+from roughgp.metrology import spectral, texture
 
 # (skewness, kurtosis, family): both sides of the lognormal line, both signs, symmetric cases
 PAIRS = [(-1.5, 6.0, "SB"), (0.61, 2.13, "SB"), (3.0, 10.5, "SB"), (0.0, 2.0, "SB"),

@@ -1,9 +1,9 @@
-"""Tests of roughgp.periodicity."""
+"""Tests of roughgp.metrology.periodicity."""
 
 import numpy as np
 import pytest
 
-from roughgp import periodicity as per
+from roughgp.metrology import periodicity as per
 
 
 def test_periodicity_of_a_sine_is_one_and_of_white_noise_is_zero():

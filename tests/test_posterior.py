@@ -1,4 +1,4 @@
-"""Tests of roughgp.posterior: priors, models, and the emcee posterior sampler."""
+"""Tests of roughgp.inference.posterior: priors, models, and the emcee posterior sampler."""
 
 import math
 
@@ -6,12 +6,25 @@ import numpy as np
 import pytest
 from scipy import integrate, stats
 
-from roughgp import acvf as _acvf
-from roughgp.posterior import (
-    MAX_GRID_POINTS, LogNormal, LogUniform, Parameter, PosteriorModel, PosteriorSamples,
-    ShortChainError, Uniform, UniformAngle, ground_patch_model, grid_likelihood,
-    profile_likelihood, sample_posterior, spectral_mixture_profile_model)
-from roughgp import posterior
+from roughgp.gp import acvf as _acvf
+from roughgp.inference import posterior
+from roughgp.inference.posterior import (
+    MAX_GRID_POINTS,
+    LogNormal,
+    LogUniform,
+    Parameter,
+    PosteriorModel,
+    PosteriorSamples,
+    ShortChainError,
+    Uniform,
+    UniformAngle,
+    grid_likelihood,
+    ground_patch_model,
+    mcmc,
+    profile_likelihood,
+    sample_posterior,
+    spectral_mixture_profile_model,
+)
 from roughgp.sampling import sample_grid
 
 try:  # the dense Cholesky of a small patch: one BLAS thread (2-thread OpenBLAS on a loaded
@@ -326,7 +339,7 @@ def test_angle_summary_not_split_at_the_wrap():
 # ------------------------------------------------------------------ spectral mixture profile
 
 def test_spectral_mixture_profile_model():
-    from roughgp.fitting import spectral_mixture_log_likelihood
+    from roughgp.inference.fitting import spectral_mixture_log_likelihood
     rng = np.random.default_rng(2)
     x = np.arange(64) * 0.5
     z = np.sin(2 * math.pi * x / 4.0) + 0.3 * rng.normal(size=x.size)
@@ -344,7 +357,7 @@ def test_spectral_mixture_profile_model():
 
 
 def test_order_lengthscales_maps_the_mirrored_mode_onto_the_same_acvf():
-    from roughgp import acvf as acvf_module
+    from roughgp.gp import acvf as acvf_module
     samples = {"lambda_a": np.array([1.0, 5.0]), "lambda_b": np.array([4.0, 2.0]),
                "angle": np.array([0.3, -0.2]), "variance": np.array([2.0, 3.0])}
     ordered = posterior.order_lengthscales(samples)
@@ -387,7 +400,7 @@ def _two_mode_result(n_walkers=6, n_steps=400, stray=2, seed=0):
     log_prob = -0.5 * chain[:, :, 0] ** 2
     log_prob[stray] -= 50.0
     params = (Parameter("a", Uniform(-100.0, 100.0)),)
-    return posterior._collect(params, chain, log_prob, np.full(n_walkers, 0.5),
+    return mcmc._collect(params, chain, log_prob, np.full(n_walkers, 0.5),
                               tuple(range(n_walkers)), 100, 1, 50, True)
 
 

@@ -1,4 +1,4 @@
-"""Tests of roughgp.readers (text / CSV / xyz / x3p) and roughgp.levelling.
+"""Tests of roughgp.metrology.readers (text / CSV / xyz / x3p) and roughgp.metrology.levelling.
 
 Round trips use non-square arrays whose rows and columns differ (z = 10 * iy + ix + ...), so
 a transposed or flipped read cannot pass. Hostile x3p files are built from a valid one by
@@ -17,9 +17,9 @@ import zipfile
 import numpy as np
 import pytest
 
-from roughgp import readers
-from roughgp.levelling import LevelFit, level
-from roughgp.readers import MalformedFileError
+from roughgp.metrology import readers
+from roughgp.metrology.levelling import LevelFit, level
+from roughgp.metrology.readers import MalformedFileError
 
 
 def _grid(ny=3, nx=5):

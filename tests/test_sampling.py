@@ -1,4 +1,4 @@
-"""Tests of roughgp.sampling and roughgp.circulant: draws of eq 10, G ~ N(0, R), on a grid
+"""Tests of roughgp.sampling and roughgp.sampling.circulant: draws of eq 10, G ~ N(0, R), on a grid
 (Jawaid & Seewig, section 2.2 and section 3.1 / figure 2).
 
 The statistical tests compare the sample covariance of many draws with R entry by entry:
@@ -23,10 +23,14 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from roughgp import circulant, sampling
-from roughgp.kernels import (AdditiveKernel, MaternKernel, RotatedExponentialKernel,
-                             SpectralMixtureKernel)
-from roughgp.sampling import choose_method, grid_covariance, sample_grid
+from roughgp import sampling
+from roughgp.gp.kernels import (
+    AdditiveKernel,
+    MaternKernel,
+    RotatedExponentialKernel,
+    SpectralMixtureKernel,
+)
+from roughgp.sampling import choose_method, circulant, grid_covariance, grid_sampler, sample_grid
 
 PI = math.pi
 ALPHA = 1e-3  # family-wise false-alarm rate of each covariance test
@@ -218,12 +222,12 @@ def test_spacing_equals_rescaled_lengthscales_2d_per_axis(method):
 
 @pytest.mark.parametrize("method", ["cholesky", "lanczos"])
 def test_dense_methods_refuse_before_allocating(monkeypatch, method):
-    monkeypatch.setattr(sampling, "_available_bytes", lambda: 2**30)
+    monkeypatch.setattr(grid_sampler, "_available_bytes", lambda: 2**30)
 
     def forbidden(*args, **kwargs):
         raise AssertionError("the covariance was built before the memory check")
 
-    monkeypatch.setattr(sampling, "grid_covariance", forbidden)
+    monkeypatch.setattr(grid_sampler, "grid_covariance", forbidden)
     start = time.perf_counter()
     with pytest.raises(ValueError, match="GiB") as excinfo:
         sample_grid(_rot((5.0, 5.0)), (400, 400), method=method, seed=0)
@@ -233,7 +237,7 @@ def test_dense_methods_refuse_before_allocating(monkeypatch, method):
 
 
 def test_auto_avoids_cholesky_when_memory_is_short(monkeypatch):
-    monkeypatch.setattr(sampling, "_available_bytes", lambda: 2**20)  # 1 MiB: 20 x 20 won't fit
+    monkeypatch.setattr(grid_sampler, "_available_bytes", lambda: 2**20)  # 1 MiB: 20 x 20 won't fit
     method, reason = choose_method(_exp1d(2.0), (600,))
     assert method == "circulant" and "out of memory" in reason
 
@@ -265,7 +269,7 @@ def test_sample_grid_propagates_not_embeddable_error(monkeypatch):
 
 def _box(lags):
     """The rectangle 'ACVF' of the notation chapter: its PSD is a sinc, negative in places."""
-    from roughgp import acvf
+    from roughgp.gp import acvf
     return acvf.rectangular(lags, variance=1.0, width=1.0)
 
 
@@ -345,22 +349,22 @@ def test_embedding_cache():
 
 
 def test_embedding_cache_keeps_the_newest_within_its_count_and_byte_budget(monkeypatch):
-    monkeypatch.setattr(sampling, "_EMBEDDINGS", {})
-    monkeypatch.setattr(sampling, "_CACHE_SIZE", 3)
+    monkeypatch.setattr(grid_sampler, "_EMBEDDINGS", {})
+    monkeypatch.setattr(grid_sampler, "_CACHE_SIZE", 3)
     kernels = [_rot((2.0 + 0.1 * i, 1.0)) for i in range(5)]
     for kernel in kernels:
         sample_grid(kernel, (9, 8), method="circulant", seed=0)
-    assert len(sampling._EMBEDDINGS) == 3
+    assert len(grid_sampler._EMBEDDINGS) == 3
     _, newest = sample_grid(kernels[-1], (9, 8), method="circulant", seed=0, return_info=True)
     _, oldest = sample_grid(kernels[0], (9, 8), method="circulant", seed=0, return_info=True)
     assert newest.cached and not oldest.cached
-    one = next(iter(sampling._EMBEDDINGS.values())).nbytes
-    monkeypatch.setattr(sampling, "_CACHE_BYTES", 2 * one)
+    one = next(iter(grid_sampler._EMBEDDINGS.values())).nbytes
+    monkeypatch.setattr(grid_sampler, "_CACHE_BYTES", 2 * one)
     sample_grid(kernels[1], (9, 8), method="circulant", seed=0)
-    assert len(sampling._EMBEDDINGS) == 2
-    monkeypatch.setattr(sampling, "_CACHE_BYTES", 0)  # the newest stays even over budget
+    assert len(grid_sampler._EMBEDDINGS) == 2
+    monkeypatch.setattr(grid_sampler, "_CACHE_BYTES", 0)  # the newest stays even over budget
     sample_grid(kernels[2], (9, 8), method="circulant", seed=0)
-    assert len(sampling._EMBEDDINGS) == 1
+    assert len(grid_sampler._EMBEDDINGS) == 1
 
 
 # --------------------------------------------------------------------------- additive kernel
@@ -417,7 +421,7 @@ def test_choose_method_large_grid_picks_circulant(monkeypatch):
     method, reason = choose_method(kernel, (300, 300))
     assert method == "circulant" and reason
     # even with unlimited memory, N^3 for N = 90 000 is far costlier than FFTs
-    monkeypatch.setattr(sampling, "_available_bytes", lambda: 2**50)
+    monkeypatch.setattr(grid_sampler, "_available_bytes", lambda: 2**50)
     method, reason = choose_method(kernel, (300, 300))
     assert method == "circulant"
     chol, circ = _costs(reason)
@@ -495,7 +499,7 @@ def test_long_profile_embedding_evaluates_the_acvf_in_large_blocks():
 def test_narrow_spectral_lines_of_a_fitted_profile_are_sampled_exactly():
     """Lines as narrow as fitting.MIN_LINE_WIDTH allows (the turned-profile fits) embed on a
     finite torus without a spurious not-positive-definite error."""
-    from roughgp import fitting
+    from roughgp.inference import fitting
     n = 8192
     width = fitting.MIN_LINE_WIDTH / n
     kernel = SpectralMixtureKernel(3, dim=1, weights=[7.3, 0.7, 0.14],

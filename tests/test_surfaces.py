@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from roughgp import surfaces
-from roughgp.surfaces import FIGURE_2, FIGURE_3, GrooveParameters, ground, honed
+from roughgp.models import surfaces
+from roughgp.models.surfaces import FIGURE_2, FIGURE_3, GrooveParameters, ground, honed
 
 SMALL = dict(variance=2.0, lengthscales=(6.0, 2.0), angle=math.pi / 6)
 STEPS = (GrooveParameters(4.0, (8.0, 3.0), math.pi / 4), GrooveParameters(0.5, (3.0, 2.0), 0.3))

@@ -1,4 +1,4 @@
-"""Tests of roughgp.targets: ground surfaces with prescribed ISO 25178-2 Sq, Sal, Str, Std.
+"""Tests of roughgp.beyond.targets: ground surfaces with prescribed ISO 25178-2 Sq, Sal, Str, Std.
 
 Surfaces are at most 512 x 512 (a quarter of a second each); the file runs in about 10 s.
 """
@@ -11,8 +11,8 @@ import warnings
 import numpy as np
 import pytest
 
-from roughgp import surfaces
-from roughgp import targets as T
+from roughgp.beyond import targets as T
+from roughgp.models import surfaces
 
 NOISE = 1.0 / 11  # the paper's ratio sigma^2 / sigma_k^2 = 1/10 for Sq = 1
 

@@ -1,4 +1,4 @@
-"""Tests of roughgp.texture: ISO 4287 / ISO 13565-2 / ISO 25178-2 texture parameters.
+"""Tests of roughgp.metrology.texture: ISO 4287 / ISO 13565-2 / ISO 25178-2 texture parameters.
 
 Known values come from surfaces whose parameters are known in closed form (plane, sinusoid,
 perfectly grooved surfaces) and from seeded Gaussian draws, whose tolerances are a few
@@ -21,13 +21,12 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from roughgp import texture
-from roughgp.acvf import rotated_exponential
-from roughgp.grid import centred_lags
-from roughgp.kernels import MaternKernel, RotatedExponentialKernel
+from roughgp.common.grid import centred_lags
+from roughgp.gp.acvf import rotated_exponential
+from roughgp.gp.kernels import MaternKernel, RotatedExponentialKernel
+from roughgp.metrology import texture
+from roughgp.metrology.texture import UndefinedParameterError
 from roughgp.sampling import sample_grid
-from roughgp.texture import UndefinedParameterError
-
 
 # --------------------------------------------------------------------------- helpers
 

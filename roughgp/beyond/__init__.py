@@ -1,0 +1,11 @@
+"""Beyond the paper: what its outlook asks for, built and checked.
+
+Modules: :mod:`~roughgp.beyond.non_gaussian` (heights with a prescribed skewness and
+kurtosis: the Johnson system and a pre-distorted ACVF), :mod:`~roughgp.beyond.targets`
+(ground surfaces with prescribed Sq, Sal, Str, Std), :mod:`~roughgp.beyond.gap_filling`
+(unmeasured points filled with the GP posterior mean and sd).
+
+May import: everything below it: :mod:`roughgp.common`, :mod:`roughgp.gp`,
+:mod:`roughgp.sampling`, :mod:`roughgp.metrology`, :mod:`roughgp.models`,
+:mod:`roughgp.inference`.
+"""

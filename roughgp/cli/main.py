@@ -1,0 +1,54 @@
+r"""The ``roughgp`` command: reproduce the paper's claims, simulate surfaces, fit and measure.
+
+A command-line front end to the library, for Jawaid & Seewig, "Model of rough surfaces with
+Gaussian processes" (Surf. Topogr.: Metrol. Prop.). Sub-commands, one module each:
+:mod:`~roughgp.cli.reproduce`, :mod:`~roughgp.cli.simulate`, :mod:`~roughgp.cli.fit`,
+:mod:`~roughgp.cli.texture`, :mod:`~roughgp.cli.fill`; the parser: :mod:`~roughgp.cli.parser`.
+
+Units: heights and lengths (spacing, lengthscales, feed, periods) are in micrometres (um).
+Exit codes: 0 success, 1 a claim regressed (``reproduce``), 2 a usage or input error (a
+message, never a traceback). :func:`main` is the entry point (``main(argv) -> int``); it never
+raises ``SystemExit``.
+"""
+
+from __future__ import annotations
+
+import sys
+import warnings
+
+from roughgp.cli.output import UsageError, err, show_warning
+from roughgp.cli.parser import build_parser
+from roughgp.metrology.readers import MalformedFileError
+
+__all__ = ["main"]
+
+
+def main(argv=None) -> int:
+    """Run ``roughgp`` with ``argv`` (default ``sys.argv[1:]``); returns the exit code."""
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help, --version (0) and argparse's usage errors (2)
+        return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)
+    if args.command is None:
+        parser.print_help(sys.stderr)
+        return 2
+    name = f"roughgp {args.command}" + (f" {args.kind}" if args.command == "simulate" else "")
+    try:
+        with warnings.catch_warnings():
+            warnings.showwarning = show_warning
+            return args.func(args)
+    except (UsageError, MalformedFileError, ValueError) as exc:
+        err(f"{name}: error: {exc}")
+        return 2
+    except OSError as exc:  # unreadable / unwritable files
+        err(f"{name}: error: {exc.strerror or exc}"
+             + (f": {exc.filename}" if getattr(exc, "filename", None) else ""))
+        return 2
+    except KeyboardInterrupt:
+        err(f"{name}: interrupted")
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,108 @@
+"""What the commands share: the usage error, messages on stderr, plain-text tables, JSON and
+the checks of output paths. Argument handling and presentation only; no computation."""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+import textwrap
+from pathlib import Path
+
+import numpy as np
+
+from roughgp.metrology.writers import check_write_format
+
+__all__ = ["UsageError", "WIDTH", "err", "show_warning", "wrap", "print_wrapped", "table",
+           "write_json", "check_output", "check_spacing", "check_device", "describe_groove"]
+
+WIDTH = 100  # the plain-text tables are laid out for a 100-column terminal
+
+
+class UsageError(Exception):
+    """A user error: reported as ``roughgp CMD: error: MESSAGE``, exit code 2."""
+
+
+def err(message: str) -> None:
+    """Print ``message`` on stderr (progress, notes, warnings: stdout keeps the results)."""
+    print(message, file=sys.stderr, flush=True)
+
+
+def show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """Library warnings as one line on stderr (``warning: ...``), without source lines."""
+    err(f"warning: {message}")
+
+
+def wrap(text: str, width: int) -> list[str]:
+    """``text`` wrapped to ``width`` columns (at least one line)."""
+    return textwrap.wrap(str(text), width, break_on_hyphens=False) or [""]
+
+
+def print_wrapped(text: str, indent: str = "  ") -> None:
+    """Print ``text`` wrapped to :data:`WIDTH`, indented."""
+    print(textwrap.fill(text, WIDTH, initial_indent=indent, subsequent_indent=indent + "  "))
+
+
+def table(rows: list[tuple], widths: tuple[int, ...], header: tuple) -> str:
+    """A plain-text table; each cell wrapped to its column's width."""
+    lines = []
+    for row in [header, tuple("-" * w for w in widths)] + rows:
+        cells = [wrap(c, w) for c, w in zip(row, widths)]
+        for k in range(max(len(c) for c in cells)):
+            parts = [(c[k] if k < len(c) else "").ljust(w) for c, w in zip(cells, widths)]
+            lines.append("  ".join(parts).rstrip())
+    return "\n".join(lines)
+
+
+def _json_value(value):
+    """JSON-ready: numpy scalars to Python, NaN / inf to None."""
+    if isinstance(value, dict):
+        return {k: _json_value(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_json_value(v) for v in value]
+    if isinstance(value, (np.floating, float)):
+        return float(value) if math.isfinite(value) else None
+    if isinstance(value, np.integer):
+        return int(value)
+    return value
+
+
+def write_json(path_text: str, record: dict) -> None:
+    path = Path(path_text)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(_json_value(record), indent=1) + "\n", encoding="utf-8")
+    err(f"wrote {path}")
+
+
+
+def check_output(path_text: str, option: str = "--out") -> Path:
+    """The path of an output file of a format that roughgp writes; a usage error naming
+    ``option`` otherwise."""
+    try:
+        return check_write_format(path_text)
+    except ValueError as exc:
+        raise UsageError(f"{option}: {exc}") from None
+
+
+def check_spacing(spacing, option: str = "--spacing") -> None:
+    """A usage error naming ``option`` unless ``spacing`` is None or finite and > 0 (um)."""
+    if spacing is not None and not (math.isfinite(spacing) and spacing > 0):
+        raise UsageError(f"{option} must be > 0 (um), got {spacing!r}")
+
+
+def check_device(device, option: str = "--device") -> None:
+    """A usage error naming ``option`` unless ``device`` is None or a usable torch device."""
+    if device is None:
+        return
+    from roughgp.common.device import resolve
+    try:
+        resolve(device, name=option)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+
+
+def describe_groove(step) -> str:
+    """The eq 18 hyperparameters of ``step`` in words, with units."""
+    return (f"variance {step.variance:g} um^2, lambda_a {step.lengthscales[0]:g} um, "
+            f"lambda_b {step.lengthscales[1]:g} um, angle {math.degrees(step.angle):g} deg")
+

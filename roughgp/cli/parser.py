@@ -1,0 +1,74 @@
+"""The ``roughgp`` argument parser: the top level, the shared input options, and each command's
+parser from its own module.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+from roughgp.cli import fill, fit, reproduce, simulate, texture
+from roughgp.cli.output import WIDTH
+from roughgp.metrology.measurement import READ_FORMATS
+
+__all__ = ['build_parser']
+
+
+_DESCRIPTION = """\
+Rough surfaces as Gaussian processes: the companion of Jawaid & Seewig, "Model of rough
+surfaces with Gaussian processes". Heights and lengths are in micrometres (um) throughout.
+
+examples:
+  roughgp reproduce --out ledger/              check every claim of the paper
+  roughgp simulate ground --shape 512 512 --seed 1 --out ground.x3p
+  roughgp simulate turned --profile 4096 --seed 1 --out turned.csv
+  roughgp fit turned.csv --out fit.json        spectral-mixture fit (eq 21)
+  roughgp texture ground.x3p                   ISO 25178-2 parameters (Sq, Ssk, Sal, ...)
+  roughgp fill measured.x3p --out filled.x3p   missing (NaN) points filled by the GP
+
+exit codes: 0 success, 1 a claim regressed (reproduce), 2 a usage or input error."""
+
+
+_INPUT = f"""\
+input formats: {', '.join(READ_FORMATS)}
+  .npy              a 1-D profile or a 2-D surface z[iy, ix] (no spacing stored: --spacing)
+  .csv .txt .dat    text tables: 1 column (heights) or 2 columns (x, z) are a profile, 3 or
+                    more a surface (one row per y); a CSV written by 'roughgp simulate' says
+                    which it is and its spacing in a comment line
+  .xyz              x y z points on a regular grid
+  .x3p              ISO 25178-72 (heights and spacing from the file)"""
+
+
+class formatter(argparse.RawDescriptionHelpFormatter):
+    """Descriptions kept as written; option help in a column at 20 or more."""
+
+    def __init__(self, prog):
+        super().__init__(prog, width=WIDTH, max_help_position=32)
+        self._action_max_length = 16  # so "reproduce" keeps its help on its line
+
+
+def add_input_options(parser) -> None:
+    parser.add_argument("file", metavar="FILE",
+                        help="the profile or surface, heights in um (formats: see below)")
+    parser.add_argument("--spacing", type=float, metavar="D",
+                        help="the grid spacing in um, overriding the file's (default: from the "
+                             "file; 1 um when it has none, e.g. .npy)")
+    parser.add_argument("--kind", choices=("auto", "profile", "surface"), default="auto",
+                        help="read a text table as a profile or a surface (default: auto)")
+
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The ``roughgp`` argument parser (all sub-commands)."""
+    from roughgp import __version__
+    parser = argparse.ArgumentParser(prog="roughgp", description=_DESCRIPTION,
+                                     formatter_class=formatter)
+    parser.add_argument("--version", action="version", version=f"roughgp {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND",
+                                title="commands (roughgp COMMAND --help for each)")
+
+    reproduce.add_parser(sub, formatter)
+    simulate.add_parser(sub, formatter)
+    fit.add_parser(sub, formatter, _INPUT, add_input_options)
+    texture.add_parser(sub, formatter, _INPUT, add_input_options)
+    fill.add_parser(sub, formatter, _INPUT)
+    return parser

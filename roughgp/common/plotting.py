@@ -1,0 +1,114 @@
+"""Figure helpers for the book: one style, and the plots that several chapters draw.
+
+Chapters call :func:`use_style` once; every helper takes an ``ax`` and labels it with units.
+"""
+
+from __future__ import annotations
+
+from importlib.resources import files
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+__all__ = ["use_style", "STYLE", "row_of_axes", "image", "compare_curves", "acvf_figure", "surface_figure"]
+
+STYLE = str(files("roughgp.common") / "roughgp.mplstyle")
+"""Path of the book's matplotlib style file."""
+
+
+def use_style():
+    """Apply the book's figure style (colour-blind-safe cycle, light grid, tight layout)."""
+    plt.style.use(STYLE)
+
+
+def row_of_axes(ncols=1, width=5.0, height=3.4):
+    """A new figure with ``ncols`` axes in a row, each ``width`` x ``height`` inches:
+    ``(figure, axes)``."""
+    fig, axes = plt.subplots(1, ncols, figsize=(width * ncols, height), squeeze=False)
+    return fig, axes[0]
+
+
+def image(ax, values, extent, *, xlabel, ylabel, colorbar_label, cmap=None, symmetric=False,
+          **kwargs):
+    """Show a 2-D array ``values[iy, ix]`` with y upwards, labelled axes and a colour bar.
+
+    ``extent`` is ``(x0, x1, y0, y1)`` in the axis unit; ``symmetric=True`` centres the colour
+    scale on zero.
+    """
+    if symmetric:
+        vmax = float(np.nanmax(np.abs(values)))
+        kwargs.setdefault("vmin", -vmax)
+        kwargs.setdefault("vmax", vmax)
+        cmap = cmap or "RdBu_r"
+    artist = ax.imshow(values, origin="lower", extent=extent, cmap=cmap, aspect="equal",
+                       interpolation="nearest", **kwargs)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.grid(False)
+    ax.figure.colorbar(artist, ax=ax, label=colorbar_label, shrink=0.85)
+    return artist
+
+
+def compare_curves(ax, x, curves, *, xlabel, ylabel, logy=False, styles=None):
+    """Plot several named curves over the same ``x`` (``curves``: label -> values)."""
+    styles = styles or {}
+    for label, y in curves.items():
+        ax.plot(x, y, label=label, **styles.get(label, {}))
+    if logy:
+        ax.set_yscale("log")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.legend()
+    return ax
+
+
+def acvf_figure(kernel, half_width, *, n=201, angle=None, level=None, height_unit="height"):
+    """Figure 1 style: a 2-D ACVF as a 3-D surface and as an image over lags in
+    ``[-half_width, half_width]^2``; ``angle`` draws the groove direction, ``level`` a contour
+    (e.g. ``r(0)/e``). Returns the figure and the axes ``(ax3d, ax)``."""
+    from roughgp.common.grid import centred_lags
+
+    lags = centred_lags((n, n), 2 * half_width / (n - 1))
+    r = kernel.acvf(lags)
+    fig = plt.figure(figsize=(9.5, 3.8))
+    ax3d = fig.add_subplot(1, 2, 1, projection="3d")
+    stride = max(1, n // 200)  # fine enough for a thin ridge (figure 2: 5 wide in 400)
+    ax3d.plot_surface(lags[..., 0], lags[..., 1], r, cmap="viridis", rstride=stride,
+                      cstride=stride, linewidth=0)
+    ax3d.set(xlabel=r"$\tau_x$", ylabel=r"$\tau_y$", zlabel=r"$r(\tau)$")
+    ax = fig.add_subplot(1, 2, 2)
+    w = half_width
+    image(ax, r, (-w, w, -w, w), xlabel=r"$\tau_x$ (length unit)", ylabel=r"$\tau_y$ (length unit)",
+          colorbar_label=rf"$r(\tau)$ ({height_unit}$^2$)")
+    if level is not None:
+        ax.contour(lags[..., 0], lags[..., 1], r, levels=[level], colors="w")
+    if angle is not None:
+        d = 0.8 * w
+        ax.plot([-d * np.cos(angle), d * np.cos(angle)], [-d * np.sin(angle), d * np.sin(angle)],
+                "w--", lw=1)
+    return fig, (ax3d, ax)
+
+
+def surface_figure(z, spacing=1.0, *, height_unit="height unit", length_unit="grid unit",
+                   max_points_3d=200, title=None):
+    """A surface ``z[iy, ix]`` twice: a 3-D perspective view (as the paper renders its
+    figures; subsampled to at most ``max_points_3d`` per axis) and a height map with a colour
+    bar in ``height_unit``. Returns the figure and the axes ``(ax3d, ax)``."""
+    z = np.asarray(z, dtype=np.float64)
+    ny, nx = z.shape
+    dy, dx = np.broadcast_to(np.asarray(spacing, dtype=np.float64), (2,))
+    step = max(1, int(np.ceil(max(ny, nx) / max_points_3d)))
+    y, x = np.mgrid[0:ny:step, 0:nx:step]
+    fig = plt.figure(figsize=(10, 4.2))
+    ax3d = fig.add_subplot(1, 2, 1, projection="3d")
+    ax3d.plot_surface(x * dx, y * dy, z[::step, ::step], cmap="viridis", linewidth=0,
+                      antialiased=False, rcount=z[::step, ::step].shape[0],
+                      ccount=z[::step, ::step].shape[1])
+    ax3d.set(xlabel=f"x ({length_unit})", ylabel=f"y ({length_unit})",
+             zlabel=f"z ({height_unit})")
+    ax = fig.add_subplot(1, 2, 2)
+    image(ax, z, (0, nx * dx, 0, ny * dy), xlabel=f"x ({length_unit})",
+          ylabel=f"y ({length_unit})", colorbar_label=f"height z ({height_unit})", cmap="viridis")
+    if title:
+        fig.suptitle(title)
+    return fig, (ax3d, ax)

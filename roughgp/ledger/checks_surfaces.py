@@ -1,0 +1,165 @@
+r"""Checks of the claims on ground and honed surfaces (section 3.1, figures 2 and 3)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from roughgp.common.plotting import row_of_axes
+from roughgp.ledger.types import Check
+
+__all__ = ["check_figure2_simulation", "check_figure2_acvf", "check_error_values", "check_error_comparable", "check_crosshatch", "check_plateau"]
+
+
+# ------------------------------------------------------------------ figure 2, section 3.1
+
+_CACHE: dict = {}
+
+
+def _figure2(seed=2):
+    """Figure 2's latent surface and surface (2000 x 2000, exact circulant embedding)."""
+    key = ("figure2", seed)
+    if key not in _CACHE:
+        from roughgp import sampling
+        from roughgp.models import surfaces
+        kernel = surfaces.FIGURE_2.kernel()
+        g, info = sampling.sample_grid(kernel, surfaces.FIGURE_2_SHAPE, method="circulant",
+                                       seed=seed, return_info=True)
+        rng = np.random.default_rng(seed + 1)
+        z = g[0] + rng.standard_normal(g[0].shape)          # sigma^2 = 1 (eq 8)
+        _CACHE.clear()
+        _CACHE[key] = (kernel, g[0], z, info)
+    return _CACHE[key]
+
+
+def check_figure2_simulation(full):
+    """Figure 2: a 2000 x 2000 ground surface drawn from eq 18 (exactly) with its lay at
+    phi = 30 deg."""
+    from roughgp.metrology import texture
+    kernel, g, z, info = _figure2()
+    std = texture.areal_parameters(z)["Std"]
+    holds = info.clipped_fraction == 0.0 and info.min_eigenvalue >= -1e-10 \
+        and abs(std - 30.0) <= 1.0
+    fig, (ax,) = row_of_axes(width=4.6, height=4.0)
+    ax.imshow(z[:400, :400], origin="lower", cmap="viridis")
+    ax.set(title="figure 2: a 400 x 400 corner", xlabel="x (grid unit)", ylabel="y (grid unit)")
+    ax.grid(False)
+    return Check(f"exact (torus {info.torus_shape[0]} x {info.torus_shape[1]}, nothing "
+                 f"clipped); Std = {std:.2f} deg", bool(holds), fig)
+
+
+def check_figure2_acvf(full):
+    """Sec 3.1 / conclusion: an exactly sampled surface has the predefined ACVF (eq 18),
+    along and across the grooves, within 4 sd of the estimate's spread."""
+    from roughgp.metrology import spectral
+    from roughgp.models import surfaces
+    from roughgp.sampling import diagnostics
+    kernel, g, _, _ = _figure2()
+    shape = surfaces.FIGURE_2_SHAPE
+    lags, acvf_hat = spectral.empirical_acvf(g, max_lag=700, unbiased=True)
+    mean_variance = diagnostics.grid_mean_variance(kernel, shape)
+    spread = diagnostics.sample_variance_sd(kernel, shape)
+    deviation = {}
+    for name, angle, reach in (("along", surfaces.FIGURE_2.angle, 800.0),
+                               ("across", surfaces.FIGURE_2.angle + math.pi / 2, 40.0)):
+        mask, distance = spectral.near_direction(lags, angle, half_width=0.5)
+        keep = (distance >= 0) & (distance <= reach)
+        model = kernel.acvf(lags[mask][keep])
+        deviation[name] = np.abs(acvf_hat[mask][keep] - (model - mean_variance)).max() / spread
+    return Check(f"largest deviation from eq 18 (less Var(mean)): along {deviation['along']:.1f}"
+                 f" sd, across {deviation['across']:.1f} sd", max(deviation.values()) <= 4)
+
+
+PAPER_ERROR = {"lanczos": 2.763e-1, "cholesky": 2.536e-1}
+
+
+def _error_setup():
+    from roughgp import sampling
+    from roughgp.gp import kernels
+    kernel = kernels.RotatedExponentialKernel(10.0, (500.0, 5.0), math.pi / 6)
+    return kernel, sampling.grid_covariance(kernel, (100, 100))
+
+
+def check_error_values(full):
+    """Sec 3.1: 50 surfaces of 100 x 100 with figure 2's hyperparameters give a mean
+    absolute covariance error of 2.536e-1 (Cholesky) and 2.763e-1 (Lanczos)."""
+    from roughgp import sampling
+    from roughgp.sampling import diagnostics
+    kernel, covariance = _error_setup()
+    expected = diagnostics.expected_covariance_error(covariance, 50)
+    draws_needed = 1 + (expected / PAPER_ERROR["cholesky"]) ** 2 * 49
+    variance_fit = 10.0 * PAPER_ERROR["cholesky"] / expected
+    text = (f"exact sampler, expected: {expected:.3f} ({expected / PAPER_ERROR['cholesky']:.1f}x"
+            f" the paper's; 0.2536 needs {draws_needed:.0f} draws or sigma_k^2 = "
+            f"{variance_fit:.1f})")
+    holds = expected > 3 * PAPER_ERROR["cholesky"]
+    if full:
+        draws = sampling.sample_grid(kernel, (100, 100), n_samples=50, method="cholesky", seed=7)
+        drawn = diagnostics.covariance_error(draws, covariance)
+        text += f"; one Cholesky experiment: {drawn:.3f}"
+        holds = holds and drawn > 3 * PAPER_ERROR["cholesky"]
+    fig, (ax,) = row_of_axes()
+    ax.bar(["paper, Cholesky", "paper, Lanczos", "stated setup,\nexpected"],
+           [PAPER_ERROR["cholesky"], PAPER_ERROR["lanczos"], expected],
+           color=["C3", "C3", "C0"])
+    ax.set(ylabel="mean |S_ij - R_ij|", title="section 3.1: covariance error, 50 draws")
+    return Check(text, bool(holds), fig)
+
+
+def check_error_comparable(full):
+    """Sec 3.1: the approximate (Lanczos) sampler's covariance error is comparable to the
+    exact sampler's."""
+    from roughgp import sampling
+    from roughgp.sampling import diagnostics
+    kernel, covariance = _error_setup()
+    expected = diagnostics.expected_covariance_error(covariance, 50)
+    draws, info = sampling.sample_grid(kernel, (100, 100), n_samples=50, method="lanczos",
+                                       rank=100, seed=7, return_info=True)
+    error = diagnostics.covariance_error(draws, covariance)
+    return Check(f"Lanczos (rank 100, keeps {info.kept_trace_fraction:.0%} of the trace): "
+                 f"{error:.3f}; exact, expected: {expected:.3f}",
+                 abs(error - expected) < 0.35 * expected)
+
+
+# ------------------------------------------------------------------ figure 3
+
+def _figure3(seed=3):
+    key = ("figure3", seed)
+    if key not in _CACHE:
+        from roughgp.models import surfaces
+        z = surfaces.honed(surfaces.FIGURE_3_SHAPE, surfaces.FIGURE_3, noise_variance=1.0,
+                           seed=seed)
+        _CACHE.clear()
+        _CACHE[key] = z
+    return _CACHE[key]
+
+
+def check_crosshatch(full):
+    """Figure 3: the minimum of ground surfaces at +-phi is cross-hatched: two lobes of the
+    angular spectrum at +-45 deg."""
+    from roughgp.metrology import texture
+    z = _figure3()
+    angles, power = texture.angular_spectrum(z)
+    between = power[(np.abs(angles) <= 5) | (np.abs(angles) >= 85)].mean()
+    lobes = []
+    for centre in (-45, 45):
+        near = np.abs(angles - centre) <= 20
+        lobes.append((angles[near][np.argmax(power[near])], power[near].max() / between))
+    holds = all(abs(a - c) <= 3 and ratio > 10 for (a, ratio), c in zip(lobes, (-45, 45)))
+    fig, axes = row_of_axes(2, width=4.4, height=3.6)
+    axes[0].imshow(z, origin="lower", cmap="viridis")
+    axes[0].set(title="figure 3 (512 x 512)", xlabel="x", ylabel="y")
+    axes[0].grid(False)
+    axes[1].semilogy(angles, power / power.max())
+    axes[1].set(xlabel="lay direction (deg)", ylabel="angular power (relative)")
+    return Check("lobes at " + ", ".join(f"{a:.1f} deg ({r:.0f}x the power at 0/90 deg)"
+                                         for a, r in lobes), bool(holds), fig)
+
+
+def check_plateau(full):
+    """Figure 3 looks plateau-honed: negative skewness and Spk < Svk."""
+    from roughgp.metrology import texture
+    p = texture.areal_parameters(_figure3())
+    return Check(f"Ssk = {p['Ssk']:.2f}, Spk = {p['Spk']:.2f}, Svk = {p['Svk']:.2f}",
+                 bool(p["Ssk"] < 0 and p["Spk"] < p["Svk"]))

@@ -1,0 +1,25 @@
+"""Draws of the GP on a grid (eq 10), and how good they are.
+
+Modules: :mod:`~roughgp.sampling.grid_sampler` (:func:`sample_grid` with the methods
+``cholesky``, ``lanczos`` (the paper's), ``circulant`` (exact, O(N log N)) and ``auto``),
+:mod:`~roughgp.sampling.circulant` (circulant embedding: the torus search, explicit
+clipping), :mod:`~roughgp.sampling.fft_filter` (the classic FFT filter, the speed baseline),
+:mod:`~roughgp.sampling.diagnostics` (the covariance error of section 3.1 and its expectation).
+
+The public names of :mod:`~roughgp.sampling.grid_sampler` are re-exported here, so
+``from roughgp import sampling; sampling.sample_grid(...)`` works.
+
+May import: :mod:`roughgp.common`, :mod:`roughgp.gp`.
+"""
+
+from roughgp.sampling.grid_sampler import (
+                                           SamplingInfo,
+                                           acvf_of,
+                                           choose_method,
+                                           covariance_index,
+                                           grid_covariance,
+                                           sample_grid,
+)
+
+__all__ = ["SamplingInfo", "acvf_of", "choose_method", "covariance_index", "grid_covariance",
+           "sample_grid"]

@@ -1,0 +1,370 @@
+r"""Draws of a latent surface on a regular grid, eq 10: :math:`\mathbf G \sim \mathcal N(0, \mathbf R)`.
+
+``sample_grid`` is the single entry point. Methods:
+
+* ``"cholesky"``: exact, dense. :math:`\mathbf R = \mathbf L\mathbf L^\top` and
+  :math:`\mathbf g = \mathbf L\boldsymbol\varepsilon` (the reparameterisation of section 2.2).
+  Memory grows as :math:`N^2` and time as :math:`N^3`: the call refuses, before allocating,
+  when the covariance would not fit in memory.
+* ``"lanczos"``: the paper's approximation (LOVE, Pleiss et al. 2018): GPyTorch's
+  ``root_decomposition(method="lanczos")`` with ``rank`` Lanczos iterations gives
+  :math:`\mathbf R \approx \mathbf Q\mathbf T\mathbf Q^\top` of rank ``rank``; the draw is
+  :math:`\mathbf Q\mathbf T^{1/2}\boldsymbol\varepsilon`. A low rank loses variance: the kept
+  share of the trace is reported. (GPyTorch's own ``MultivariateNormal.rsample()`` does this
+  with ``rank = settings.max_root_decomposition_size`` = 100 by default once N exceeds
+  ``settings.max_cholesky_size`` = 800.)
+* ``"circulant"``: exact in O(N log N) by circulant embedding (:mod:`roughgp.sampling.circulant`);
+  an additive kernel (eq 22) is drawn as two profiles and summed, exactly, in O(N).
+* ``"auto"``: the cheapest exact method by a cost model (see :func:`choose_method`).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import warnings
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+import scipy.linalg
+
+from roughgp.common.checks import as_generator as _rng
+from roughgp.common.device import free_bytes
+from roughgp.common.device import resolve as resolve_device
+from roughgp.common.grid import centred_lags, normalize
+from roughgp.sampling import circulant
+
+__all__ = ["sample_grid", "grid_covariance", "covariance_index", "choose_method", "SamplingInfo",
+           "acvf_of", "METHODS"]
+
+METHODS = ("auto", "cholesky", "lanczos", "circulant")
+
+_LOG = logging.getLogger(__name__)
+_EMBEDDINGS: dict = {}  # the last few circulant embeddings, keyed by kernel state and grid
+_CACHE_SIZE = 8  # enough for the four kernels of a two-step honed surface (eq 20)
+_CACHE_BYTES = 2 * 2**30  # ... but older entries go once the cache holds more than this
+
+
+@dataclass
+class SamplingInfo:
+    """What ``sample_grid(..., return_info=True)`` did: the method, and its accuracy figures."""
+
+    method: str
+    reason: str = ""
+    torus_shape: tuple | None = None
+    min_eigenvalue: float | None = None
+    clipped_fraction: float = 0.0
+    kept_trace_fraction: float = 1.0
+    jitter: float = 0.0
+    cached: bool = False
+    details: dict = field(default_factory=dict)
+
+_BYTES = 8  # float64
+
+
+def acvf_of(kernel, name="kernel") -> Callable:
+    """The ACVF of a roughgp kernel (its ``acvf``), or ``kernel`` itself if it is a function
+    of lags; ``name``: the argument's name in the error."""
+    acvf = getattr(kernel, "acvf", None)
+    if callable(acvf):
+        return acvf
+    if callable(kernel):
+        return kernel
+    raise ValueError(f"{name} must be a roughgp StationaryKernel or a function of lags, "
+                     f"got {type(kernel).__name__}")
+
+
+def _available_bytes() -> int:
+    import torch
+
+    return free_bytes(torch.device("cpu"))
+
+
+def grid_covariance(kernel, shape, spacing=1.0, *, device=None):
+    """The covariance matrix R of eq 10 for the grid points in row-major order, (N, N).
+
+    Uses stationarity: the ACVF is evaluated once on the (2n - 1)-point lag grid of each axis
+    and the matrix is gathered from that table, never from an (N, N, D) lag array. With a
+    ``device`` (:mod:`roughgp.common.device`) the gather runs there and a float64 tensor on that
+    device is returned.
+    """
+    shape, spacing = normalize(shape, spacing)
+    acvf = acvf_of(kernel)
+    table = np.asarray(acvf(centred_lags(tuple(2 * n - 1 for n in shape), spacing)),
+                       dtype=np.float64)
+    if not np.all(np.isfinite(table)):
+        raise ValueError("kernel returned non-finite covariances on this grid")
+    index = covariance_index(shape, device)
+    if device is None:
+        return table.reshape(-1)[index]
+    import torch
+
+    return torch.as_tensor(table.reshape(-1), device=index.device)[index]
+
+
+def covariance_index(shape, device=None):
+    """For a grid of ``shape``: the (N, N) indices of each pair's lag in the flattened
+    (2 ny - 1, 2 nx - 1) lag table of :func:`grid_covariance` (numpy, or a torch int64
+    tensor on ``device``)."""
+    if device is None:
+        arange = np.arange
+    else:
+        import torch
+
+        def arange(n):
+            return torch.arange(n, device=device)
+    n_points = int(np.prod(shape))
+    if len(shape) == 1:
+        (n,) = shape
+        i = arange(n)
+        return i[None, :] - i[:, None] + n - 1
+    ny, nx = shape
+    iy, ix = arange(ny), arange(nx)
+    dy = (iy[None, :] - iy[:, None] + ny - 1)[:, None, :, None]
+    dx = (ix[None, :] - ix[:, None] + nx - 1)[None, :, None, :]
+    return (dy * (2 * nx - 1) + dx).reshape(n_points, n_points)
+
+
+def _cholesky_factor(covariance):
+    """Lower Cholesky factor and the relative jitter used: the smallest diagonal jitter
+    (0, then 1e-12 .. 1e-6 of the mean variance) that makes a numerically semi-definite
+    matrix factorisable, with a warning naming the jitter when one was needed. ``covariance``
+    is a numpy array or a torch tensor (factorised where it lies)."""
+    on_torch = not isinstance(covariance, np.ndarray)
+    scale = float(covariance.diagonal().mean())
+    for rel in (0.0, 1e-12, 1e-10, 1e-8, 1e-6):
+        if on_torch:
+            import torch
+
+            a = covariance
+            if rel:
+                a = covariance.clone()
+                a.diagonal().add_(rel * scale)
+            factor, failed = torch.linalg.cholesky_ex(a)
+            del a
+            if int(failed):
+                continue
+        else:
+            try:
+                a = covariance + rel * scale * np.eye(len(covariance)) if rel else covariance
+                factor = scipy.linalg.cholesky(a, lower=True, check_finite=False)
+            except np.linalg.LinAlgError:
+                continue
+        if rel:
+            warnings.warn(f"covariance needed a diagonal jitter of {rel:g} x the mean variance "
+                          f"to factorise", stacklevel=4)
+        return factor, rel
+    raise ValueError("the covariance is not positive semi-definite (Cholesky failed even with "
+                     "a jitter of 1e-6 x the mean variance): the kernel is not a valid ACVF "
+                     "on this grid")
+
+
+def _check_dense_memory(shape, method, copies=2, device=None):
+    n_points = int(np.prod(shape))
+    needed = copies * n_points**2 * _BYTES
+    if device is not None:
+        from roughgp.common.device import check_memory
+
+        check_memory(needed, device, f"method={method!r} on shape {shape} (a dense "
+                                     f"{n_points} x {n_points} covariance)")
+        return
+    available = _available_bytes()
+    if needed > 0.8 * available:
+        raise ValueError(f"method={method!r} on shape {shape} needs a dense {n_points} x "
+                         f"{n_points} covariance: about {needed / 2**30:.1f} GiB, but only "
+                         f"{available / 2**30:.1f} GiB are free; use method='circulant' or a "
+                         f"smaller grid")
+
+
+def _draw_cholesky(kernel, shape, spacing, n_samples, rng, info, device=None):
+    _check_dense_memory(shape, "cholesky", copies=2 if device is None else 3, device=device)
+    factor, info.jitter = _cholesky_factor(grid_covariance(kernel, shape, spacing,
+                                                           device=device))
+    noise = rng.standard_normal((factor.shape[0], n_samples))  # numpy on every device
+    if device is not None:
+        import torch
+
+        noise = torch.from_numpy(noise).to(device)
+        return (factor @ noise).T.reshape((n_samples, *shape)).cpu().numpy()
+    return (factor @ noise).T.reshape((n_samples, *shape))
+
+
+def _draw_lanczos(kernel, shape, spacing, n_samples, rng, info, rank, device=None):
+    import torch
+    from linear_operator.utils import lanczos
+
+    n_points = int(np.prod(shape))
+    if not isinstance(rank, (int, np.integer)) or not 1 <= rank <= n_points:
+        raise ValueError(f"rank must be an integer in [1, {n_points}] (the number of grid "
+                         f"points), got {rank!r}")
+    _check_dense_memory(shape, "lanczos", copies=1 if device is None else 2, device=device)
+    device = device or torch.device("cpu")
+    covariance = grid_covariance(kernel, shape, spacing, device=device)
+    # The steps of linear_operator's RootDecomposition (what GPyTorch's rsample runs beyond
+    # max_cholesky_size), with the Lanczos start vector drawn from our seed, not torch's
+    # global generator: Q T Q^T ~ R, root = Q V sqrt(D) with T = V D V^T.
+    start = torch.from_numpy(rng.standard_normal((n_points, 1))).to(device)
+    q_mat, t_mat = lanczos.lanczos_tridiag(covariance.matmul, int(rank), dtype=torch.float64,
+                                           device=covariance.device,
+                                           matrix_shape=covariance.shape, init_vecs=start)
+    # eigh of T directly: linear_operator's lanczos_tridiag_to_diag masks negative Ritz values.
+    # Ritz values lie in [lambda_min, lambda_max]: a clearly negative one proves the
+    # covariance indefinite, which clamping would hide
+    eigenvalues, eigenvectors = torch.linalg.eigh(t_mat)
+    # an eigenvector's sign is arbitrary and differs between LAPACK and cuSOLVER: fix it (the
+    # largest entry positive) so a seed gives the same draw on every device
+    largest = eigenvectors.gather(0, eigenvectors.abs().argmax(0, keepdim=True))
+    eigenvectors = eigenvectors * torch.where(largest < 0, -1.0, 1.0)
+    if float(eigenvalues.min()) < -1e-8 * float(eigenvalues.max()):
+        raise ValueError(f"the covariance is not positive semi-definite (a Lanczos Ritz value "
+                         f"is {float(eigenvalues.min()):.3g}, the largest "
+                         f"{float(eigenvalues.max()):.3g}): the kernel is not a valid ACVF on "
+                         f"this grid")
+    root = (q_mat @ eigenvectors) * eigenvalues.clamp_min(0).sqrt().unsqueeze(-2)
+    info.kept_trace_fraction = float((root * root).sum() / torch.diagonal(covariance).sum())
+    info.details["rank"] = int(root.shape[-1])
+    noise = torch.from_numpy(rng.standard_normal((root.shape[-1], n_samples))).to(device)
+    return (root @ noise).T.cpu().numpy().reshape((n_samples, *shape))
+
+
+def _cache_key(kernel, shape, spacing, options):
+    hyper = getattr(kernel, "hyperparameters", None)
+    if hyper is None:
+        return None  # a plain function: no way to tell whether it changed
+    state = tuple((k, tuple(np.atleast_1d(v.detach().cpu().numpy()).ravel().tolist()))
+                  for k, v in hyper().items())
+    return (type(kernel).__name__, getattr(kernel, "nu", None), state, shape,
+            tuple(spacing.tolist()), options)
+
+
+def _embedding(kernel, shape, spacing, info, **options):
+    key = _cache_key(kernel, shape, spacing, tuple(sorted(options.items())))
+    if key is not None and key in _EMBEDDINGS:
+        info.cached = True
+        return _EMBEDDINGS[key]
+    embedding = circulant.embed(acvf_of(kernel), shape, spacing, **options)
+    if key is not None:
+        _EMBEDDINGS[key] = embedding
+        while len(_EMBEDDINGS) > 1 and (
+                len(_EMBEDDINGS) > _CACHE_SIZE
+                or sum(e.nbytes for e in _EMBEDDINGS.values()) > _CACHE_BYTES):
+            _EMBEDDINGS.pop(next(iter(_EMBEDDINGS)))
+    return embedding
+
+
+def _draw_circulant(kernel, shape, spacing, n_samples, rng, info, approximate, dtype,
+                    device=None):
+    from roughgp.gp.kernels import AdditiveKernel
+
+    if isinstance(kernel, AdditiveKernel) and len(shape) == 2:
+        # eq 22: G(x, y) = G_x(x) + G_y(y) with independent profiles, exact in O(N)
+        ny, nx = shape
+        gx = _draw_circulant(kernel.kernel_x, (nx,), spacing[1:], n_samples, rng, info,
+                             approximate, dtype, device)
+        gy = _draw_circulant(kernel.kernel_y, (ny,), spacing[:1], n_samples, rng, info,
+                             approximate, dtype, device)
+        info.details["additive"] = True
+        return gx[:, None, :] + gy[:, :, None]
+    embedding = _embedding(kernel, shape, spacing, info, approximate=approximate)
+    info.torus_shape = embedding.torus_shape
+    info.min_eigenvalue = embedding.min_eigenvalue
+    info.clipped_fraction = max(info.clipped_fraction, embedding.clipped_fraction)
+    if embedding.clipped_fraction > 0:
+        warnings.warn(f"approximate circulant embedding: negative eigenvalues holding "
+                      f"{embedding.clipped_fraction:.2e} of the variance were clipped",
+                      stacklevel=4)
+    return circulant.draw(embedding, n_samples, rng, dtype=dtype, device=device)
+
+
+_FLOPS_PER_SECOND = 2e10  # dense linear algebra on the reference 2-core machine
+
+
+def choose_method(kernel, shape, spacing=1.0, n_samples=1):
+    """The cheapest exact method for this kernel and grid, and why.
+
+    Cost model (seconds, reference machine): Cholesky ``N^3 / 3 + N^2 n`` flops at 2e10 flop/s,
+    and infinite when the dense covariance does not fit in memory; circulant embedding
+    ``(2 + ceil(n / 2)) * 5 M log2 M`` flops for the search and the FFTs on the torus of M
+    points that :func:`roughgp.sampling.circulant.predict_torus` expects (no FFT is taken to guess it).
+    An additive kernel (eq 22) always goes to the O(N) circulant route.
+    """
+    from roughgp.gp.kernels import AdditiveKernel
+
+    shape, spacing = normalize(shape, spacing)
+    if isinstance(kernel, AdditiveKernel) and len(shape) == 2:
+        return "circulant", "additive kernel (eq 22): two exact profiles, O(N)"
+    n_points = int(np.prod(shape))
+    dense_bytes = 2 * n_points**2 * _BYTES
+    cholesky_cost = (math.inf if dense_bytes > 0.8 * _available_bytes()
+                     else (n_points**3 / 3 + n_points**2 * n_samples) / _FLOPS_PER_SECOND)
+    torus = circulant.predict_torus(acvf_of(kernel), shape, spacing)
+    m = int(np.prod(torus))
+    fft_flops = 5 * m * max(math.log2(m), 1)
+    circulant_cost = (2 + math.ceil(n_samples / 2)) * fft_flops / (_FLOPS_PER_SECOND / 10)
+    if cholesky_cost <= circulant_cost:
+        return "cholesky", (f"Cholesky ~{cholesky_cost:.2g} s vs circulant ~{circulant_cost:.2g} s "
+                            f"(torus about {torus})")
+    return "circulant", (f"circulant ~{circulant_cost:.2g} s (torus about {torus}) vs Cholesky "
+                         f"{'out of memory' if math.isinf(cholesky_cost) else f'~{cholesky_cost:.2g} s'}")
+
+
+def sample_grid(kernel, shape, *, spacing=1.0, n_samples=1, method="auto", seed=None,
+                rank=100, approximate=False, dtype=np.float64, device=None, return_info=False):
+    """Draw ``n_samples`` latent surfaces G ~ N(0, R) (eq 10) on a regular grid.
+
+    Args:
+        kernel: a :class:`roughgp.gp.kernels.StationaryKernel` (its ``acvf`` is used) or a
+            function of lags of shape (..., D) returning the ACVF.
+        shape: ``(n,)`` for a profile or ``(ny, nx)`` for a surface (array order).
+        spacing: grid spacing, scalar or per axis in array order.
+        n_samples: number of independent draws (>= 1).
+        method: ``"auto"``, ``"cholesky"``, ``"lanczos"`` or ``"circulant"`` (module docstring).
+        seed: int, None or ``numpy.random.Generator``; the same seed gives the same array.
+        rank: Lanczos iterations for ``method="lanczos"``.
+        approximate: circulant only: clip negative eigenvalues of a smaller torus (the clipped
+            share of the variance is reported and warned about) instead of growing it.
+        dtype: of the result; ``numpy.float32`` also runs circulant FFTs in single precision
+            (half the memory). Dense methods always compute in float64.
+        device: None (numpy) or a torch device such as ``"cuda"`` (:mod:`roughgp.common.device`):
+            the FFTs, factorisations and products run there. Circulant draws then take their
+            noise from a torch generator on the device (seeded from ``seed``: the same seed
+            gives the same array on the same kind of device, other numbers than numpy's);
+            Cholesky and Lanczos draws take it from numpy and match ``device=None`` to
+            rounding. The embedding search of the circulant method stays on the CPU (it is
+            cached).
+        return_info: also return a :class:`SamplingInfo`.
+
+    Returns:
+        numpy array of shape ``(n_samples, *shape)`` (and the info when asked).
+    """
+    shape, spacing = normalize(shape, spacing)
+    if not isinstance(n_samples, (int, np.integer)) or n_samples < 1:
+        raise ValueError(f"n_samples must be an integer >= 1, got {n_samples!r}")
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {METHODS}, got {method!r}")
+    try:
+        valid_dtype = np.dtype(dtype) in (np.float32, np.float64)
+    except TypeError:
+        valid_dtype = False
+    if not valid_dtype:
+        raise ValueError(f"dtype must be numpy.float32 or numpy.float64, got {dtype!r}")
+    dtype = np.dtype(dtype)
+    acvf_of(kernel)
+    device = resolve_device(device)
+    rng = _rng(seed)
+    n_samples = int(n_samples)
+    reason = "requested"
+    if method == "auto":
+        method, reason = choose_method(kernel, shape, spacing, n_samples)
+        _LOG.info("sample_grid chose method=%r: %s", method, reason)
+    info = SamplingInfo(method=method, reason=reason)
+    if method == "cholesky":
+        samples = _draw_cholesky(kernel, shape, spacing, n_samples, rng, info, device)
+    elif method == "lanczos":
+        samples = _draw_lanczos(kernel, shape, spacing, n_samples, rng, info, rank, device)
+    else:
+        samples = _draw_circulant(kernel, shape, spacing, n_samples, rng, info, approximate,
+                                  dtype, device)
+    samples = samples.astype(dtype, copy=False)  # dense methods compute in float64
+    return (samples, info) if return_info else samples
