@@ -18,6 +18,8 @@ The subpackages, bottom up; each may import only those before it (a test checks 
   map with holes;
 * :mod:`roughgp.beyond`: beyond the paper: non-Gaussian heights, prescribed roughness, gap
   filling;
+* :mod:`roughgp.experiments`: the paper's experiments, one function per claim's computation,
+  shared by the chapters and the ledger;
 * :mod:`roughgp.ledger`: the claims ledger (one check per claim of the paper);
 * :mod:`roughgp.cli`: the ``roughgp`` command.
 """

@@ -11,8 +11,8 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1] / "roughgp"
 
 #: The groups bottom up: a module may import its own group and the groups before it.
-LAYERS = ("common", "gp", "sampling", "metrology", "models", "inference", "beyond", "ledger",
-          "cli")
+LAYERS = ("common", "gp", "sampling", "metrology", "models", "inference", "beyond",
+          "experiments", "ledger", "cli")
 
 
 def _modules():
