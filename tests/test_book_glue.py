@@ -1,0 +1,35 @@
+"""The numbers a chapter's prose states are glued (myst-nb): every ``{glue:...}`key``` in a
+markdown cell has a ``glue("key", ...)`` in a code cell of the same notebook, so the book build
+cannot meet an unknown key and text and computation cannot drift apart."""
+
+import json
+import re
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+NOTEBOOKS = sorted((ROOT / "book").glob("*.ipynb")) + sorted((ROOT / "notebooks").glob("*.ipynb"))
+REFERENCE = re.compile(r"\{glue(?::[a-z]+)?\}`([^`:]+)")
+GLUED = re.compile(r"""glue\(\s*(?:f?["'])([^"']+)["']""")
+
+
+def _cells(path):
+    return json.loads(path.read_text(encoding="utf-8"))["cells"]
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.name)
+def test_every_glue_reference_is_glued(path):
+    cells = _cells(path)
+    referenced = {key.strip() for c in cells if c["cell_type"] == "markdown"
+                  for key in REFERENCE.findall("".join(c["source"]))}
+    glued = {key for c in cells if c["cell_type"] == "code"
+             for key in GLUED.findall("".join(c["source"]))}
+    assert not referenced - glued, f"glue keys used but never glued: {referenced - glued}"
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.name)
+def test_notebooks_are_committed_without_outputs(path):
+    for c in _cells(path):
+        if c["cell_type"] == "code":
+            assert c.get("outputs") == [] and c.get("execution_count") is None, path.name
