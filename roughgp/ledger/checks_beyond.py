@@ -40,35 +40,19 @@ def check_sampling(full):
 def check_non_gaussian(full):
     """Conclusion: GPs with Gaussian noise cannot describe strongly non-Gaussian surfaces;
     a Johnson transform of a pre-distorted GP gives a prescribed Ssk and Sku with the
-    target ACVF (roughgp.beyond.non_gaussian)."""
-    from scipy import stats
-
-    from roughgp.beyond import non_gaussian
-    from roughgp.gp import kernels
-    from roughgp.metrology import spectral, texture
-    kernel = kernels.MaternKernel(nu=0.5, dim=2, variance=1.0, lengthscale=8.0)
-    n, target = (20 if full else 5), (-1.5, 6.0)
-    kwargs = dict(skewness=target[0], kurtosis=target[1], seed=5, n_samples=n)
-    z, _ = non_gaussian.non_gaussian_surface(kernel, (512, 512), **kwargs)
-    naive, _ = non_gaussian.non_gaussian_surface(kernel, (512, 512), predistortion=False,
-                                                 **kwargs)
-    params = [texture.height_parameters(s) for s in z]
-    quantile = stats.t.ppf(0.999, n - 1)
-    ok, text = True, []
-    for key, goal in zip(("Ssk", "Sku"), target):
-        values = np.array([p[key] for p in params])
-        se = values.std(ddof=1) / math.sqrt(n)
-        ok &= abs(values.mean() - goal) <= quantile * se
-        text.append(f"{key} {values.mean():.2f} +- {values.std(ddof=1):.2f} (target {goal:g})")
-    lags = spectral.empirical_acvf(z[0], max_lag=16)[0]
-    truth = kernel.acvf(lags)
-    rms = [float(np.sqrt(np.mean((np.mean([spectral.empirical_acvf(s, max_lag=16,
-                                                                   unbiased=True)[1]
-                                           for s in draws], axis=0) - truth) ** 2)))
-           for draws in (z, naive)]
-    return Check(", ".join(text) + f" over {n} surfaces of 512 x 512; ACVF RMS error "
-                 f"{rms[0]:.4f} with pre-distortion, {rms[1]:.4f} without",
-                 bool(ok and rms[0] < 0.5 * rms[1]))
+    target ACVF (roughgp.experiments.small_claims.non_gaussian_acvf, as in the chapter
+    non_gaussian)."""
+    from roughgp.experiments import small_claims
+    result = small_claims.non_gaussian_acvf(full)
+    (name,) = result.targets
+    moments, rms = result.moments[name], result.rms[name]
+    ok = all(abs(moments[key].t_stat) <= result.quantile for key in ("Ssk", "Sku"))
+    text = [f"{key} {moments[key].mean:.2f} +- {moments[key].sd:.2f} (target "
+            f"{moments[key].target:g})" for key in ("Ssk", "Sku")]
+    shape = " x ".join(str(n) for n in result.draws[name].shape[1:])
+    return Check(", ".join(text) + f" over {result.n_samples} surfaces of {shape}; ACVF RMS "
+                 f"error {rms['with']:.4f} with pre-distortion, {rms['without']:.4f} without",
+                 bool(ok and rms["with"] < 0.5 * rms["without"]))
 
 
 def check_prescribed(full):
@@ -189,40 +173,23 @@ def check_device(full):
 
 def check_long_correlation(full):
     """Conclusion: the GP approach simulates long correlation lengths "not possible with
-    ARMA processes or other digital filter methods"."""
-    from roughgp import sampling
-    from roughgp.gp import acvf, kernels
-    from roughgp.models import arma
-    n, lam = 2000, 500.0
-    # 1. an AR(1) is the exponential ACVF of lambda = 500, exactly (eq 12 as a sampled OU)
-    ar, ma, s2 = arma.ou_to_ar1(1.0, lam, 1.0)
-    lags = np.arange(n, dtype=float)
-    ar_gap = np.abs(arma.arma_acvf(ar, ma, s2, n) - np.exp(-lags / lam)).max()
-    # 2. the classic FFT filter on the grid itself (roughgp.sampling.fft_filter) has the circulant
-    #    covariance with eigenvalues S(f_k): its ACVF is the periodised one, exactly
-    psd = acvf.matern_psd(np.fft.fftfreq(n)[:, None], 1.0, lam, 0.5)
-    filter_acvf = np.fft.ifft(psd).real
-    wrap_lag = n // 2
-    filtered = float(filter_acvf[wrap_lag])
-    # 3. circulant embedding (an FFT method on a larger torus) is exact
-    _, info = sampling.sample_grid(kernels.MaternKernel(nu=0.5, lengthscale=lam), (n,),
-                                   method="circulant", seed=1, return_info=True)
-    # 4. a sustained periodic ACVF needs AR orders in the hundreds
-    periodic = kernels.SpectralMixtureKernel(1, dim=1, weights=[1.0], means=[[0.05]],
-                                             variances=[[1e-6]])
-    r = periodic.acvf(np.arange(601.0)[:, None]) + 0.3 * np.exp(-np.arange(601.0) / 3.0)
-    r[0] += 0.05
-    ar, s2 = arma.yule_walker(r[:65], 64)
-    ar_periodic = np.abs(arma.arma_acvf(ar, [], s2, 601) - r).max() / r[0]
-    true_wrap = math.exp(-wrap_lag / lam)
-    holds = (ar_gap < 1e-12 and filtered > 1.5 * true_wrap and info.clipped_fraction == 0.0
-             and ar_periodic > 0.05)
+    ARMA processes or other digital filter methods" (roughgp.experiments.small_claims.
+    long_correlation, as in the chapter arma)."""
+    from roughgp.experiments import small_claims
+    result = small_claims.long_correlation()
+    periodic = result.fit_error["periodic"]
+    ar64 = periodic[result.orders.index(64)]
+    holds = (result.ar1_gap < 1e-12 and result.filter_at_wrap > 1.5 * result.true_at_wrap
+             and result.circulant_clipped == 0.0 and min(periodic) > 0.05)
+    lam, lags = result.lengthscale, result.exp_lags
     fig, (ax,) = row_of_axes()
     ax.plot(lags, np.exp(-lags / lam), "k", lw=2, label="eq 18 / AR(1) (identical)")
-    ax.plot(lags, filter_acvf, "C1", label="FFT filter on the grid (wraps)")
+    ax.plot(lags, result.filter_acvf, "C1", label="FFT filter on the grid (wraps)")
     ax.set(xlabel="lag (grid unit)", ylabel="ACVF", title=f"exponential ACVF, lambda = {lam:g}")
     ax.legend()
-    return Check(f"AR(1) = exponential ACVF of lambda = 500 to {ar_gap:.0e}; the grid-size "
-                 f"FFT filter gives {filtered:.3f} at lag {wrap_lag} (true {true_wrap:.3f}); "
-                 f"circulant embedding exact; AR(64) misses a periodic ACVF by "
-                 f"{100 * ar_periodic:.0f} %", bool(holds), fig)
+    return Check(f"AR(1) = exponential ACVF of lambda = {lam:g} to {result.ar1_gap:.0e}; the "
+                 f"grid-size FFT filter gives {result.filter_at_wrap:.3f} at lag "
+                 f"{result.wrap_lag} (true {result.true_at_wrap:.3f}); circulant embedding "
+                 f"exact; AR(64) misses a periodic ACVF by {100 * ar64:.0f} %, no AR(p) up to "
+                 f"p = {max(result.orders)} gets within {100 * min(periodic):.0f} %",
+                 bool(holds), fig)

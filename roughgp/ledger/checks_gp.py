@@ -19,25 +19,14 @@ __all__ = ["check_duality", "check_figure1", "check_ma_finite", "check_arma_line
 
 def check_duality(full):
     """Eq 5 on a grid: FFT(ACVF) = PSD (within aliasing) for the book's profile ACVFs and
-    figure 1's; IFFT(PSD) = ACVF to rounding where the PSD has no mass beyond Nyquist."""
-    from roughgp.gp import fourier, kernels
-    profile = {
-        "exponential": kernels.MaternKernel(nu=0.5, lengthscale=1.0),
-        "Matern 3/2": kernels.MaternKernel(nu=1.5, lengthscale=1.0),
-        "squared exponential": kernels.MaternKernel(nu=math.inf, lengthscale=1.0),
-        "spectral mixture": kernels.SpectralMixtureKernel(
-            2, dim=1, weights=[0.6, 0.4], means=[[0.5], [2.0]], variances=[[0.04], [0.01]]),
-    }
-    errors = {name: fourier.duality_errors(k.acvf, k.psd, 2 ** 14 + 1, 0.01, band=5.0)
-              for name, k in profile.items()}
-    fig1 = kernels.RotatedExponentialKernel(1.0, (0.5, 0.1), math.pi / 6)
-    n2 = 2049 if full else 1025
-    errors["figure 1 (2-D)"] = fourier.duality_errors(fig1.acvf, fig1.psd, (n2, n2), 0.01,
-                                                      band=5.0)
-    forward = max(e["forward"] for e in errors.values())
-    inverse = max(errors[n]["inverse"] for n in ("squared exponential", "spectral mixture"))
-    return Check(f"FFT(ACVF) vs PSD: {forward:.1e} of the peak (5 ACVFs); IFFT(PSD) vs "
-                 f"ACVF for smooth ACVFs: {inverse:.1e}", forward < 1e-4 and inverse < 1e-10)
+    figure 1's; IFFT(PSD) = ACVF to rounding where the PSD has no mass beyond Nyquist
+    (roughgp.experiments.small_claims.kernel_duality_table, as in the chapter notation)."""
+    from roughgp.experiments import small_claims
+    table = small_claims.kernel_duality_table(full)
+    n_acvfs = len(table.errors) + 1
+    return Check(f"FFT(ACVF) vs PSD: {table.forward:.1e} of the peak ({n_acvfs} ACVFs); "
+                 f"IFFT(PSD) vs ACVF for smooth ACVFs: {table.inverse:.1e}",
+                 table.forward < 1e-4 and table.inverse < 1e-10)
 
 
 def check_figure1(full):
