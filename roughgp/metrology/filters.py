@@ -220,6 +220,9 @@ def default_cutoffs(z, spacing=1.0, *, by="Ra"):
             notes.append(f"profile ({_fmt(length)}) shorter than lambda_c: L-filter off")
             l_cut = None
         notes.append(f"lambda_s {_fmt(s_cut)} (ISO 3274)")
+        if s_cut > length / 5:
+            notes.append(f"lambda_s over a fifth of the profile ({_fmt(length)}): S-filter off")
+            s_cut = None
     else:
         side = min(n * d for n, d in zip(arr.shape, sp))
         fits = [v for v in PREFERRED_NESTING_INDICES if v <= side / 5 and v >= 2 * dmax]

@@ -84,7 +84,8 @@ def remove_plane(z, spacing=1.0):
     params = {"offset": fit.offset, "slope_x": fit.slope[-1]}
     if arr.ndim == 2:
         params["slope_y"] = fit.slope[0]
-    return residual, FormFit("plane", params, _rms(residual), "F: plane")
+    label = "F: plane" if arr.ndim == 2 else "F: least-squares line"
+    return residual, FormFit("plane", params, _rms(residual), label)
 
 
 def _terms(ndim, degree):
@@ -247,9 +248,9 @@ def remove_cylinder(z, spacing=1.0, axis="auto"):
         residual = residual[0]
         params = {"radius": radius, "axis_x0": float(t0 + xc), "axis_z0": z0,
                   "convex": 1.0 if convex else 0.0}
-        label = f"F: circle (R = {radius:.4g})"
+        label = f"F: circle (R = {radius:.4g} um)"
     else:
-        label = f"F: cylinder (axis along {ax}, R = {radius:.4g})"
+        label = f"F: cylinder (axis along {ax}, R = {radius:.4g} um)"
     return residual, FormFit("cylinder", params, rms, label)
 
 

@@ -205,7 +205,7 @@ def read_measurement(path, *, kind: str = "auto", spacing: float | None = None,
         return _npy(path, kind, spacing)
     if ext == ".x3p":
         hm = read_x3p(path)
-        return _height_map(hm, spacing, "from the x3p file", "m (x3p stores metres)",
+        return _height_map(hm, spacing, "from the x3p file", "m (x3p stores metres), converted to um",
                            "roughgp x3p" + (f", {hm.meta['reader']}" if "reader" in hm.meta
                                             else " (x3pio)"))
     if ext == ".xyz":
@@ -225,7 +225,10 @@ def read_measurement(path, *, kind: str = "auto", spacing: float | None = None,
                                  ") nor one that SurfaceTopography recognises by its content "
                                  "(instrument formats: roughgp texture --help lists them)") \
             from None
-    return _height_map(hm, spacing, "from the file", hm.meta["unit"], hm.meta["reader"])
+    unit_source = hm.meta["unit"]
+    if not unit_source.startswith("um"):
+        unit_source += ", converted to um"
+    return _height_map(hm, spacing, "from the file", unit_source, hm.meta["reader"])
 
 
 def mean_profile(heights: Measurement, axis: str = "x") -> tuple[np.ndarray, float, str]:
