@@ -294,24 +294,27 @@ def test_texture_of_surfaces_and_a_profile(capsys, tmp_path):
     results = []
     for path in (npy, x3p):
         out_json = tmp_path / f"{path.suffix[1:]}.json"
-        code, out, err = _run(capsys, "texture", path, "--json", out_json)
+        code, out, err = _run(capsys, "texture", path, "--unfiltered", "--json", out_json)
         assert code == 0, err
-        assert "Sq" in out and "Sal" in out and "Std" in out
+        assert "Sq" in out and "Sal" in out and "Std" in out and "operators: none" in out
         record = json.loads(out_json.read_text(), parse_constant=pytest.fail)
         results.append(record["parameters"]["Sq"])
     np.testing.assert_allclose(results[0], results[1], rtol=1e-9)
     assert results[0] == pytest.approx(np.std(np.load(npy)), rel=1e-9)
 
     profile, _ = _simulate(capsys, tmp_path, "turned", "p.csv", 1, (1, 600))
-    code, out, err = _run(capsys, "texture", profile, "--level")
+    code, out, err = _run(capsys, "texture", profile)
     assert code == 0, err
     assert "Ra" in out and "RSm" in out and "Sq" not in out
+    # a 600 um profile is shorter than ISO 4288's cut-off for its Ra: the L-filter is off
+    assert "F: least-squares line" in out and "shorter than lambda_c: L-filter off" in out
 
 
 def test_texture_flat_surface_prints_nan(capsys, tmp_path):
     flat = tmp_path / "flat.npy"
     np.save(flat, np.zeros((8, 8)))
-    code, out, err = _run(capsys, "texture", flat, "--json", tmp_path / "flat.json")
+    code, out, err = _run(capsys, "texture", flat, "--unfiltered", "--json",
+                          tmp_path / "flat.json")
     assert code == 0, err
     assert "nan" in out
     record = json.loads((tmp_path / "flat.json").read_text(), parse_constant=pytest.fail)

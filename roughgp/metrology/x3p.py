@@ -6,7 +6,8 @@ a ``main.xml`` without the schema's namespace), reads it with a lenient parser o
 (:func:`_read_lenient`) that applies the same checks: defusedxml (no entity expansion), the
 declared sizes before any allocation, the MD5 checksums where the file has them, and the
 data types of the standard (``I`` int16, ``L`` int32, ``F`` float32, ``D`` float64, with the
-z axis' increment and offset applied to integer data, and the valid-points mask). Invalid
+z axis' increment applied as x3pio applies it, and the valid-points mask of integer data). Axis offsets are the
+placement of the first point and go to ``meta["offset"]``, as on the x3pio path. Invalid
 points are NaN. :func:`write_x3p` writes through x3pio.
 
 Layout: a surface is ``z[iy, ix]`` (the data file runs x fastest), spacing ``(dy, dx)``.
@@ -346,9 +347,9 @@ def _read_lenient(path, layer=0) -> HeightMap:
             raise _bad(path, f"{link} holds {len(raw)} bytes; {size[1]} x {size[0]} x "
                              f"{size[2]} points of {item} need {points * item.itemsize}")
         values = np.frombuffer(raw, dtype=item).astype(np.float64)
+        values = values * z_scale  # as x3pio; the z offset is placement (meta), as x3pio keeps it
         if dtype in ("I", "L"):
-            values = values * z_scale + z_offset
-            valid_link = _value(r3, "ValidPointsLink")
+            valid_link = _value(r3, "DataLink", "ValidPointsLink") or _value(r3, "ValidPointsLink")
             valid = None if valid_link is None else _member(archive, root_dir, valid_link)
             if valid is not None:
                 bits = np.frombuffer(_checked_bytes(path, archive, valid, None, valid_link,
