@@ -17,7 +17,7 @@ import pytest
 from roughgp import ledger
 from roughgp.cli.main import main
 from roughgp.cli.simulate import MAX_SIMULATE_POINTS
-from roughgp.metrology import readers
+from roughgp.metrology import readers, x3p
 
 SHAPES = {"ground": (16, 24), "honed": (16, 24), "turned": (32, 48)}
 
@@ -43,7 +43,7 @@ def _read_back(path):
     if path.suffix == ".npy":
         return np.load(path)
     if path.suffix == ".x3p":
-        return readers.read_x3p(path).z
+        return x3p.read_x3p(path).z
     return readers.read_surface(path, spacing=1.0)[0]
 
 
@@ -135,7 +135,7 @@ def test_simulate_each_kind_and_format(capsys, tmp_path, kind):
         else:  # the same seed gives the same surface in every format
             np.testing.assert_allclose(z, reference, rtol=1e-9, atol=1e-9)
     if kind == "ground":
-        assert readers.read_x3p(tmp_path / "ground.x3p").spacing == (1.0, 1.0)
+        assert x3p.read_x3p(tmp_path / "ground.x3p").spacing == (1.0, 1.0)
 
 
 def test_simulate_seeds(capsys, tmp_path):
@@ -161,7 +161,7 @@ def test_simulate_options_override_the_preset(capsys, tmp_path):
     _, err = _simulate(capsys, tmp_path, "turned", "t.x3p", 1, None, "--feed", 20,
                        "--spacing", 0.5)
     assert "feed 20 um" in err
-    assert readers.read_x3p(tmp_path / "t.x3p").spacing == (0.5, 0.5)
+    assert x3p.read_x3p(tmp_path / "t.x3p").spacing == (0.5, 0.5)
 
 
 def test_simulate_turned_profile(capsys, tmp_path):
@@ -174,7 +174,7 @@ def test_simulate_turned_profile(capsys, tmp_path):
     np.testing.assert_allclose(z, np.load(tmp_path / "b.npy"), rtol=1e-9, atol=1e-9)
     code, _, _ = _run(capsys, "simulate", "turned", "--profile", 300, "--out",
                       tmp_path / "c.x3p")
-    assert code == 0 and readers.read_x3p(tmp_path / "c.x3p").z.shape == (300,)
+    assert code == 0 and x3p.read_x3p(tmp_path / "c.x3p").z.shape == (300,)
 
 
 @pytest.mark.parametrize("shape", [(0, 48), (32, -4), (100000, 100000)])
@@ -294,24 +294,28 @@ def test_texture_of_surfaces_and_a_profile(capsys, tmp_path):
     results = []
     for path in (npy, x3p):
         out_json = tmp_path / f"{path.suffix[1:]}.json"
-        code, out, err = _run(capsys, "texture", path, "--json", out_json)
+        code, out, err = _run(capsys, "texture", path, "--unfiltered", "--json", out_json)
         assert code == 0, err
-        assert "Sq" in out and "Sal" in out and "Std" in out
+        assert "Sq" in out and "Sal" in out and "Std" in out and "operators: none" in out
         record = json.loads(out_json.read_text(), parse_constant=pytest.fail)
         results.append(record["parameters"]["Sq"])
     np.testing.assert_allclose(results[0], results[1], rtol=1e-9)
     assert results[0] == pytest.approx(np.std(np.load(npy)), rel=1e-9)
 
     profile, _ = _simulate(capsys, tmp_path, "turned", "p.csv", 1, (1, 600))
-    code, out, err = _run(capsys, "texture", profile, "--level")
+    code, out, err = _run(capsys, "texture", profile)
     assert code == 0, err
     assert "Ra" in out and "RSm" in out and "Sq" not in out
+    # a 600 um profile is shorter than ISO 4288's cut-off for its Ra: the L-filter is off
+    words = " ".join(out.split())  # the notes are wrapped to the terminal
+    assert "F: least-squares line" in words and "shorter than lambda_c: L-filter off" in words
 
 
 def test_texture_flat_surface_prints_nan(capsys, tmp_path):
     flat = tmp_path / "flat.npy"
     np.save(flat, np.zeros((8, 8)))
-    code, out, err = _run(capsys, "texture", flat, "--json", tmp_path / "flat.json")
+    code, out, err = _run(capsys, "texture", flat, "--unfiltered", "--json",
+                          tmp_path / "flat.json")
     assert code == 0, err
     assert "nan" in out
     record = json.loads((tmp_path / "flat.json").read_text(), parse_constant=pytest.fail)

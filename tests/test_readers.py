@@ -17,7 +17,7 @@ import zipfile
 import numpy as np
 import pytest
 
-from roughgp.metrology import readers
+from roughgp.metrology import readers, x3p
 from roughgp.metrology.levelling import LevelFit, level
 from roughgp.metrology.readers import MalformedFileError
 
@@ -214,9 +214,9 @@ def test_x3p_round_trip_surface_layout_units_and_nan(tmp_path):
     z = _grid(3, 5) * 0.37
     z[2, 0] = np.nan
     path = tmp_path / "s.x3p"
-    readers.write_x3p(path, z, (2.0, 0.5), comment="round trip")
-    h = readers.read_x3p(path)
-    assert isinstance(h, readers.HeightMap) and h.unit == "um"
+    x3p.write_x3p(path, z, (2.0, 0.5), comment="round trip")
+    h = x3p.read_x3p(path)
+    assert isinstance(h, x3p.HeightMap) and h.unit == "um"
     assert h.z.shape == (3, 5) and h.z.dtype == np.float64
     np.testing.assert_allclose(h.z, z, rtol=1e-14, atol=0)
     assert np.isnan(h.z[2, 0]) and np.count_nonzero(np.isnan(h.z)) == 1
@@ -237,8 +237,8 @@ def test_x3p_round_trip_surface_layout_units_and_nan(tmp_path):
 def test_x3p_round_trip_profile(tmp_path):
     z = np.array([0.5, -1.25, np.nan, 3.0])
     path = tmp_path / "p.x3p"
-    readers.write_x3p(path, z, 0.1)
-    h = readers.read_x3p(path)
+    x3p.write_x3p(path, z, 0.1)
+    h = x3p.read_x3p(path)
     assert h.z.shape == (4,) and h.meta["feature_type"] == "profile"
     np.testing.assert_allclose(h.z, z, rtol=1e-14)
     np.testing.assert_allclose(h.spacing, (0.1,), rtol=1e-14)
@@ -246,18 +246,18 @@ def test_x3p_round_trip_profile(tmp_path):
 
 def test_write_x3p_bad_input(tmp_path):
     with pytest.raises(ValueError, match="infinite"):
-        readers.write_x3p(tmp_path / "a.x3p", [[1.0, np.inf]], 1.0)
+        x3p.write_x3p(tmp_path / "a.x3p", [[1.0, np.inf]], 1.0)
     with pytest.raises(ValueError, match="spacing"):
-        readers.write_x3p(tmp_path / "a.x3p", [[1.0, 2.0]], (1.0, 0.0))
+        x3p.write_x3p(tmp_path / "a.x3p", [[1.0, 2.0]], (1.0, 0.0))
     with pytest.raises(ValueError, match="shape"):
-        readers.write_x3p(tmp_path / "a.x3p", np.zeros((2, 2, 2)), 1.0)
+        x3p.write_x3p(tmp_path / "a.x3p", np.zeros((2, 2, 2)), 1.0)
 
 
 @pytest.fixture
 def x3p_members(tmp_path):
     """The members of a valid 3 x 4 surface file, as {name: bytes}."""
     path = tmp_path / "valid.x3p"
-    readers.write_x3p(path, _grid(3, 4), (1.0, 1.0))
+    x3p.write_x3p(path, _grid(3, 4), (1.0, 1.0))
     with zipfile.ZipFile(path) as archive:
         return {name: archive.read(name) for name in archive.namelist()}
 
@@ -278,13 +278,13 @@ def _rezip(path, members, *, edit=None, fix_md5=True, drop=()):
 
 def test_x3p_rewritten_valid_file_still_reads(tmp_path, x3p_members):
     path = _rezip(tmp_path / "ok.x3p", x3p_members)
-    np.testing.assert_allclose(readers.read_x3p(path).z, _grid(3, 4), rtol=1e-14)
+    np.testing.assert_allclose(x3p.read_x3p(path).z, _grid(3, 4), rtol=1e-14)
 
 
 def test_x3p_negative_increment_flips_to_increasing_positions(tmp_path, x3p_members):
     def negative_y(xml):
         return re.sub(r"(<CY>.*?<Increment>)([^<]*)", r"\1-1e-06", xml, flags=re.S)
-    h = readers.read_x3p(_rezip(tmp_path / "neg.x3p", x3p_members, edit=negative_y))
+    h = x3p.read_x3p(_rezip(tmp_path / "neg.x3p", x3p_members, edit=negative_y))
     np.testing.assert_allclose(h.z, _grid(3, 4)[::-1], rtol=1e-14)
     np.testing.assert_allclose(h.spacing, (1.0, 1.0))
 
@@ -292,15 +292,15 @@ def test_x3p_negative_increment_flips_to_increasing_positions(tmp_path, x3p_memb
 def test_x3p_not_zip_bad_zip_no_main(tmp_path, x3p_members):
     text = _write(tmp_path / "text.x3p", "x,z\n0,1\n")
     with _raises(text, "not a .*zip"):
-        readers.read_x3p(text)
+        x3p.read_x3p(text)
     good = _rezip(tmp_path / "good.x3p", x3p_members).read_bytes()
     truncated = tmp_path / "truncated.x3p"
     truncated.write_bytes(good[: len(good) // 2])
     with _raises(truncated, "zip"):
-        readers.read_x3p(truncated)
+        x3p.read_x3p(truncated)
     no_main = _rezip(tmp_path / "nomain.x3p", x3p_members, fix_md5=False, drop=("main.xml",))
     with _raises(no_main, "no main.xml"):
-        readers.read_x3p(no_main)
+        x3p.read_x3p(no_main)
 
 
 def test_x3p_damaged_member(tmp_path, x3p_members):
@@ -316,7 +316,7 @@ def test_x3p_damaged_member(tmp_path, x3p_members):
     blob[at] ^= 0xFF
     path.write_bytes(bytes(blob))
     with _raises(path, "CRC|checksum|MD5"):
-        readers.read_x3p(path)
+        x3p.read_x3p(path)
 
 
 def test_x3p_wrong_md5_checksum(tmp_path, x3p_members):
@@ -324,12 +324,12 @@ def test_x3p_wrong_md5_checksum(tmp_path, x3p_members):
     members["md5checksum.hex"] = b"0" * 32 + b" *main.xml\n"
     path = _rezip(tmp_path / "md5.x3p", members, fix_md5=False)
     with _raises(path, "MD5"):
-        readers.read_x3p(path)
+        x3p.read_x3p(path)
     # main.xml changed after the checksum was written
     path = _rezip(tmp_path / "md5b.x3p", x3p_members, fix_md5=False,
                   edit=lambda xml: xml.replace("<Offset>0.0</Offset>", "<Offset>0.5</Offset>", 1))
     with _raises(path, "MD5"):
-        readers.read_x3p(path)
+        x3p.read_x3p(path)
 
 
 def _set_size(sx, sy):
@@ -342,13 +342,13 @@ def _set_size(sx, sy):
 def test_x3p_absurd_declared_size_is_refused_before_reading(tmp_path, x3p_members):
     path = _rezip(tmp_path / "huge.x3p", x3p_members, edit=_set_size(10 ** 6, 10 ** 6))
     with _raises(path, "MAX_POINTS", "1000000 x 1000000"):
-        readers.read_x3p(path)
+        x3p.read_x3p(path)
 
 
 def test_x3p_data_size_mismatch(tmp_path, x3p_members):
     path = _rezip(tmp_path / "size.x3p", x3p_members, edit=_set_size(5, 3))
     with _raises(path, "data.bin", "bytes"):
-        readers.read_x3p(path)
+        x3p.read_x3p(path)
 
 
 def test_x3p_billion_laughs(tmp_path, x3p_members):
@@ -364,7 +364,7 @@ def test_x3p_billion_laughs(tmp_path, x3p_members):
     path = _rezip(tmp_path / "lol.x3p", x3p_members, edit=laughs)
     assert b"<!ENTITY" in zipfile.ZipFile(path).read("main.xml")
     with _raises(path, "(?i)entit|XML"):
-        readers.read_x3p(path)
+        x3p.read_x3p(path)
 
 
 @pytest.mark.parametrize("value", ["inf", "nan", "0", "1e400"])
@@ -373,14 +373,14 @@ def test_x3p_non_finite_or_zero_spacing(tmp_path, x3p_members, value):
         return re.sub(r"(<CX>.*?<Increment>)([^<]*)", rf"\g<1>{value}", xml, flags=re.S)
     path = _rezip(tmp_path / "inc.x3p", x3p_members, edit=edit)
     with _raises(path, "Increment|increment"):
-        readers.read_x3p(path)
+        x3p.read_x3p(path)
 
 
 def test_x3p_oversized_main_xml_is_refused(tmp_path, x3p_members, monkeypatch):
-    monkeypatch.setattr(readers, "MAX_XML_BYTES", 100)
+    monkeypatch.setattr(x3p, "MAX_XML_BYTES", 100)
     path = _rezip(tmp_path / "big.x3p", x3p_members)
     with _raises(path, "MAX_XML_BYTES"):
-        readers.read_x3p(path)
+        x3p.read_x3p(path)
 
 
 # --------------------------------------------------------------------------- levelling

@@ -44,6 +44,10 @@ def add_parser(sub, formatter, input_epilog) -> None:
     f.add_argument("file", metavar="FILE", help="the surface, heights in um, NaN where missing")
     f.add_argument("--spacing", type=float, metavar="D",
                    help="the grid spacing in um, overriding the file's")
+    f.add_argument("--channel", type=int, default=0, metavar="K",
+                   help="the data channel of an instrument file with several (default 0)")
+    f.add_argument("--unit", choices=("m", "mm", "um", "nm"), metavar="U",
+                   help="the length unit of an instrument file that states none")
     f.add_argument("--out", required=True, metavar="FILE",
                    help="the filled surface: " + ", ".join(WRITE_FORMATS))
     f.add_argument("--sd", metavar="FILE", help="also write the posterior sd map")
@@ -71,7 +75,8 @@ def run(args) -> int:
         raise UsageError("--sd needs --samples >= 2 (the sd is estimated from the draws)")
     check_device(args.device)
     check_spacing(args.spacing)
-    heights = read_measurement(args.file, kind="surface", spacing=args.spacing)
+    heights = read_measurement(args.file, kind="surface", spacing=args.spacing,
+                               channel=args.channel, unit=args.unit)
     if heights.kind != "surface":
         raise UsageError(f"{args.file} holds a profile; fill needs a surface z[iy, ix]")
     (dy, dx), z = heights.spacing, heights.z

@@ -58,7 +58,8 @@ def run(args) -> int:
     if args.candidates < 1:
         raise UsageError(f"--candidates must be >= 1, got {args.candidates}")
     check_spacing(args.spacing)
-    heights = read_measurement(args.file, kind=args.kind, spacing=args.spacing)
+    heights = read_measurement(args.file, kind=args.kind, spacing=args.spacing,
+                               channel=args.channel, unit=args.unit)
     z, spacing, how = mean_profile(heights, args.axis)
     missing = int(np.count_nonzero(np.isnan(z)))
     if missing:

@@ -35,7 +35,13 @@ input formats: {', '.join(READ_FORMATS)}
                     more a surface (one row per y); a CSV written by 'roughgp simulate' says
                     which it is and its spacing in a comment line
   .xyz              x y z points on a regular grid
-  .x3p              ISO 25178-72 (heights and spacing from the file)"""
+  .x3p              ISO 25178-72 from any writer (x3pio, x3ptools, MountainsMap, ...)
+  instrument files  through SurfaceTopography, recognised by their content: Digital Surf
+                    .sur, Wyko .opd, NanoScope .di, Sensofar .plu/.plux, Zygo .datx and
+                    MetroPro .dat, MountainsMap .mnt, Nanosurf .nms, Keyence .vk3/.vk4/.vk6,
+                    .sdf, Gwyddion .gwy, Olympus .lext/.oir, ... (units from the file)
+A profile's x column may be printed rounded: it is read as a regular grid when every x lies
+within the rounding of its printed digits (the spacing used is printed)."""
 
 
 class formatter(argparse.RawDescriptionHelpFormatter):
@@ -54,6 +60,11 @@ def add_input_options(parser) -> None:
                              "file; 1 um when it has none, e.g. .npy)")
     parser.add_argument("--kind", choices=("auto", "profile", "surface"), default="auto",
                         help="read a text table as a profile or a surface (default: auto)")
+    parser.add_argument("--channel", type=int, default=0, metavar="K",
+                        help="the data channel of an instrument file with several (default 0)")
+    parser.add_argument("--unit", choices=("m", "mm", "um", "nm"), metavar="U",
+                        help="the length unit of an instrument file that states none "
+                             "(m, mm, um, nm)")
 
 
 

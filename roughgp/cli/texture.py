@@ -4,22 +4,49 @@ handling and the printed table only.
 
 from __future__ import annotations
 
-from roughgp.cli.output import check_spacing, print_wrapped, write_json
+import argparse
+import math
+
+from roughgp.cli.output import UsageError, check_spacing, print_wrapped, write_json
 from roughgp.metrology.measurement import read_measurement
+from roughgp.metrology.texture_report import filtered_parameters, unit_of
 
 __all__ = ['add_parser', 'run']
 
 
 _TEXTURE = """\
-Print ISO surface-texture parameters: for a surface the ISO 25178-2 set (Sa, Sq, Ssk, Sku,
-Sp, Sv, Sz, Sal, Str, Std, Sk, Spk, Svk, Smr1, Smr2), for a profile ISO 4287 / 13565-2 (Ra,
-Rq, Rsk, Rku, Rp, Rv, Rt, RSm, Rk, Rpk, Rvk, Mr1, Mr2), without filtering. Heights and
-lengths in um, Std in degrees, material ratios in percent. A parameter the data do not
-define (e.g. the skewness of a flat surface) prints as nan (null in the JSON).
+Print ISO surface-texture parameters of a measurement after the standard's operators: the
+F-operator (form removal: a least-squares plane by default; --form cylinder for a curved
+part such as a bullet land, polynomial, none), then the Gaussian S-filter (ISO 16610-61,
+16610-21 for a profile) that removes the shortest wavelengths and the Gaussian L-filter that
+removes the waviness, with the nesting indices of the standard's tables unless given (ISO
+4288 / 3274 for a profile, chosen from its Ra; ISO 25178-3's preferred series for a surface:
+the largest <= a fifth of the field for L). The parameters are those of the SL surface
+(roughness profile): for a surface ISO 25178-2 (Sa, Sq, Ssk, Sku, Sp, Sv, Sz, Sal, Str, Std,
+Sk, Spk, Svk, Smr1, Smr2), for a profile ISO 4287 / 13565-2 (Ra, Rq, Rsk, Rku, Rp, Rv, Rt,
+RSm, Rk, Rpk, Rvk, Mr1, Mr2). The operators and cut-offs applied are printed. Unmeasured
+points are left out of the height and material-ratio parameters; Sal, Str, Std (RSm) need a
+complete grid and print as nan then. Heights and lengths in um, Std in degrees, material
+ratios in percent; a parameter the data do not define prints as nan (null in the JSON).
 
-example:
-  roughgp texture ground.x3p --level --json texture.json"""
+examples:
+  roughgp texture measured.sur
+  roughgp texture land.x3p --form cylinder --l-filter 250 --json texture.json
+  roughgp texture ground.x3p --unfiltered"""
 
+
+def _cutoff(text):
+    """A nesting index option: ``auto``, ``none`` or a length in um (> 0)."""
+    if text in ("auto", "none"):
+        return text
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected auto, none or a length in um, got "
+                                         f"{text!r}") from None
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"a nesting index must be > 0 (um), got {text!r}")
+    return value
 
 
 def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
@@ -28,48 +55,58 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                        epilog=input_epilog,
                        help="ISO texture parameters (Sq, Sal, Str, ... / Ra, Rq, ...)")
     add_input_options(x)
-    x.add_argument("--level", action="store_true",
-                   help="refer heights to the least-squares plane / line (default: the mean)")
+    x.add_argument("--form", choices=("plane", "polynomial", "cylinder", "none"),
+                   default="plane", help="F-operator (default plane: a line for a profile)")
+    x.add_argument("--degree", type=int, default=2, metavar="N",
+                   help="degree of --form polynomial (default 2)")
+    x.add_argument("--axis", choices=("auto", "x", "y"), default="auto",
+                   help="the axis of --form cylinder (default auto: the better fit)")
+    x.add_argument("--s-filter", type=_cutoff, default="auto", metavar="S",
+                   help="S-filter nesting index in um, auto (default) or none")
+    x.add_argument("--l-filter", type=_cutoff, default="auto", metavar="L",
+                   help="L-filter nesting index (cut-off) in um, auto (default) or none")
+    x.add_argument("--unfiltered", action="store_true",
+                   help="no F-, S- or L-operator: the parameters of the heights as read, "
+                        "referred to their mean")
     x.add_argument("--json", metavar="OUT", help="also write the parameters as JSON")
     x.set_defaults(func=run)
 
 
-_UNITS = {"Ssk": "", "Sku": "", "Rsk": "", "Rku": "", "Str": "", "Std": "deg",
-          "Smr1": "%", "Smr2": "%", "Mr1": "%", "Mr2": "%"}
-
-
-def _unit(name: str) -> str:
-    """The unit of a texture parameter: um unless listed in ``_UNITS``."""
-    return _UNITS.get(name, "um")
-
-
 def run(args) -> int:
     """``roughgp texture FILE``: ISO surface-texture parameters."""
-    from roughgp.metrology import texture
     check_spacing(args.spacing)
-    heights = read_measurement(args.file, kind=args.kind, spacing=args.spacing)
-    if heights.kind == "surface":
-        values = texture.areal_parameters(heights.z, spacing=heights.spacing,
-                                          level=args.level, undefined="nan")
-        standard = "ISO 25178-2 areal parameters"
-    else:
-        values = texture.profile_parameters(heights.z, spacing=heights.spacing[0],
-                                            level=args.level, undefined="nan")
-        standard = "ISO 4287 / ISO 13565-2 profile parameters (whole profile, unfiltered)"
+    if args.degree < 1:
+        raise UsageError(f"--degree must be >= 1, got {args.degree}")
+    heights = read_measurement(args.file, kind=args.kind, spacing=args.spacing,
+                               channel=args.channel, unit=args.unit)
+    option = {"auto": "auto", "none": None}
+    report = filtered_parameters(
+        heights.z, heights.spacing, form=None if args.form == "none" else args.form,
+        s=option.get(args.s_filter, args.s_filter) if not isinstance(args.s_filter, float)
+        else args.s_filter,
+        l=option.get(args.l_filter, args.l_filter) if not isinstance(args.l_filter, float)
+        else args.l_filter,
+        degree=args.degree, axis=args.axis, filtered=not args.unfiltered)
     shape = " x ".join(map(str, heights.z.shape))
     spacing = ", ".join(f"{d:g}" for d in heights.spacing)
-    print(f"{standard} of {args.file}")
+    print(f"{report.standard} of {args.file}")
     print_wrapped(f"{heights.kind} of {shape} points, spacing {spacing} um "
-                   f"({heights.spacing_source}); heights referred to the "
-                   f"{'least-squares plane' if args.level else 'mean'}")
-    for name, value in values.items():
-        print(f"  {name:<5} {value:>12.5g} {_unit(name)}".rstrip())
+                  f"({heights.spacing_source}); heights: {heights.unit_source}; read by "
+                  f"{heights.reader}")
+    print_wrapped("operators: " + ("; ".join(report.operators) if report.operators
+                                   else "none (unfiltered)"))
+    for note in report.notes:
+        print_wrapped(f"note: {note}")
+    for name, value in report.parameters.items():
+        print(f"  {name:<5} {value:>12.5g} {unit_of(name)}".rstrip())
     if args.json:
         write_json(args.json, {"file": str(args.file), "kind": heights.kind,
-                                "shape": list(heights.z.shape),
-                                "spacing_um": list(heights.spacing),
-                                "spacing_from": heights.spacing_source,
-                                "level": args.level, "parameters": values,
-                                "units": {k: _unit(k) for k in values}})
+                               "shape": list(heights.z.shape),
+                               "spacing_um": list(heights.spacing),
+                               "spacing_from": heights.spacing_source,
+                               "height_unit_from": heights.unit_source,
+                               "reader": heights.reader, "standard": report.standard,
+                               "operators": report.operators, "notes": report.notes,
+                               "parameters": report.parameters,
+                               "units": {k: unit_of(k) for k in report.parameters}})
     return 0
-

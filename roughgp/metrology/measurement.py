@@ -1,9 +1,14 @@
-"""A measurement read from a file, whatever its format: heights in µm and where the spacing
-came from.
+"""A measurement read from a file, whatever its format: heights in µm, the spacing, and where
+each came from.
 
-:func:`read_measurement` dispatches on the extension (:data:`READ_FORMATS`) to the readers of
-:mod:`roughgp.metrology.readers`; :class:`Measurement` holds ``z`` (``z[ix]`` or ``z[iy, ix]``,
-NaN where unmeasured), ``spacing`` in array order and how the spacing was found.
+:func:`read_measurement` picks the reader by the extension and, where the extension is
+ambiguous (``.txt``, ``.csv``, ``.dat``, ``.asc``), by the content: text tables go to
+:mod:`roughgp.metrology.readers` (profiles with rounded x accepted within their printed
+digits), ``.x3p`` to :mod:`roughgp.metrology.x3p` (any writer), ``.npy`` is read here, and
+binary or other instrument files go to SurfaceTopography
+(:mod:`roughgp.metrology.instruments`). :class:`Measurement` holds ``z`` (``z[ix]`` or
+``z[iy, ix]``, NaN where unmeasured), ``spacing`` in array order (µm), how the spacing and the
+height unit were found, which reader read it, and what the file says besides.
 :func:`mean_profile` reduces a surface to its mean profile (section 3.3 fits a profile).
 """
 
@@ -12,29 +17,54 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
+import types
 from pathlib import Path
 
 import numpy as np
 
 from roughgp.metrology import readers
+from roughgp.metrology.instruments import UM_PER_UNIT, read_instrument
 from roughgp.metrology.readers import MalformedFileError
+from roughgp.metrology.x3p import read_x3p
 
-__all__ = ["Measurement", "READ_FORMATS", "read_measurement", "mean_profile"]
+__all__ = ["Measurement", "READ_FORMATS", "TEXT_FORMATS", "read_measurement", "mean_profile"]
 
-#: The formats :func:`read_measurement` reads (by the file's extension).
-READ_FORMATS = (".npy", ".csv", ".txt", ".dat", ".xyz", ".x3p")
+#: Extensions read by roughgp's own readers; ``.txt``, ``.csv``, ``.dat`` and ``.asc`` are
+#: read as text when their content is text and by SurfaceTopography otherwise (MetroPro's
+#: binary ``.dat``, say).
+TEXT_FORMATS = (".csv", ".txt", ".dat", ".asc")
+#: Formats read without SurfaceTopography; every other extension goes to it
+#: (:func:`roughgp.metrology.instruments.instrument_formats` lists its readers).
+READ_FORMATS = (".npy", ".xyz", ".x3p") + TEXT_FORMATS
 
 _GIVEN = "as given (--spacing)"  # the spacing source when the caller gives the spacing
+_UNIT_WORDS = {"um": "um", "µm": "um", "μm": "um", "micrometer": "um", "micrometre": "um",
+               "micron": "um", "microns": "um", "micrometers": "um", "micrometres": "um",
+               "mm": "mm", "millimeter": "mm", "millimetre": "mm", "nm": "nm",
+               "nanometer": "nm", "nanometre": "nm", "m": "m", "meter": "m", "metre": "m"}
 
 
 @dataclasses.dataclass
 class Measurement:
-    """Heights read from a file: ``z`` in µm (``z[ix]`` or ``z[iy, ix]``), ``spacing`` in
-    array order (``(dx,)`` or ``(dy, dx)``, µm), and where the spacing came from."""
+    """Heights read from a file.
+
+    Attributes:
+        z: heights in µm, ``z[ix]`` (profile) or ``z[iy, ix]`` (surface), NaN where unmeasured.
+        spacing: the steps in µm in array order, ``(dx,)`` or ``(dy, dx)``.
+        spacing_source: where the spacing came from (the file, a column, ``--spacing``, or an
+            assumption: then it says so).
+        unit_source: the unit the file's heights were in and how it was found.
+        reader: which reader read the file.
+        meta: what the file says besides the heights (creator, instrument, offsets, ...).
+    """
 
     z: np.ndarray
     spacing: tuple
     spacing_source: str
+    unit_source: str = "um (assumed: the file states none)"
+    reader: str = "roughgp"
+    meta: types.MappingProxyType = dataclasses.field(
+        default_factory=lambda: types.MappingProxyType({}))
 
     @property
     def kind(self) -> str:
@@ -48,88 +78,76 @@ def _check_input(path) -> Path:
         raise FileNotFoundError(2, "no such file", str(path))
     if not p.is_file():
         raise ValueError(f"not a file: {path}")
-    if p.suffix.lower() not in READ_FORMATS:
-        raise ValueError(f"cannot read {path}: unknown extension {p.suffix or '(none)'!r}; "
-                         f"the formats read are {', '.join(READ_FORMATS)}")
     return p
 
 
-def _csv_header(path: Path) -> tuple[str | None, float | None]:
-    """What a CSV written by ``roughgp simulate`` says about itself in its comment lines:
-    ``(kind, spacing)``, each None when not said."""
+def _is_text(path: Path) -> bool:
+    """Whether the first 8 KiB look like text (no NUL byte, mostly printable)."""
+    with open(path, "rb") as stream:
+        head = stream.read(8192)
+    if b"\x00" in head:
+        return False
+    printable = sum(32 <= b < 127 or b in (9, 10, 13) or b >= 128 for b in head)
+    return printable >= 0.95 * max(len(head), 1)
+
+
+def _text_header(path: Path) -> tuple[str | None, float | None, list[str]]:
+    """What a text file says about itself before its data: ``(kind, spacing, units)`` from a
+    ``roughgp simulate`` CSV's comments, and the units named in the last header line (one per
+    column, e.g. ``Lateral um,Raw Micrometer``)."""
     kind = spacing = None
+    last_header = ""
     with open(path, encoding="utf-8-sig", errors="replace") as stream:
-        for _, line in zip(range(20), stream):
-            if not line.startswith("#"):
+        for _, line in zip(range(200), stream):
+            text = line.strip()
+            if re.match(r"^[-+.\d]", text) and re.search(r"\d", text):
                 break
-            m = re.match(r"#\s*roughgp (profile|surface)\b", line)
+            m = re.match(r"#\s*roughgp (profile|surface)\b", text)
             kind = m.group(1) if m else kind
-            m = re.match(r"#\s*spacing_um:\s*([^\s,;]+)", line)
+            m = re.match(r"#\s*spacing_um:\s*([^\s,;]+)", text)
             if m:
                 try:
                     spacing = float(m.group(1))
                 except ValueError:
                     pass
-    return kind, spacing
+            if text and not text.startswith("#"):
+                last_header = text
+    units = []
+    for column in re.split(r"[,;\t]", last_header):
+        words = [w for w in re.findall(r"[A-Za-zµμ]+", column.lower())]
+        found = [_UNIT_WORDS[w] for w in words if w in _UNIT_WORDS]
+        units.append(found[-1] if found else None)
+    return kind, spacing, units
 
 
-def _profile_spacing(x: np.ndarray, path: Path) -> float:
-    """The step of a profile's x column; a clear error unless it is regular."""
-    steps = np.diff(x)
-    step = float((x[-1] - x[0]) / (x.size - 1))
-    if np.max(np.abs(steps - step)) > 1e-6 * step:
-        raise MalformedFileError(f"{path}: the x column is not a regular grid (steps from "
-                                 f"{steps.min():.6g} to {steps.max():.6g}); roughgp needs "
-                                 "equally spaced points")
-    return step
+def _npy(path: Path, kind: str, spacing):
+    with open(path, "rb") as stream:
+        if stream.read(6) != b"\x93NUMPY":
+            raise MalformedFileError(f"{path}: not a .npy file (no NumPy header)")
+    try:
+        z = np.load(path, allow_pickle=False)
+    except (ValueError, OSError, EOFError) as exc:
+        raise MalformedFileError(f"{path}: not a readable .npy array ({exc})") from None
+    if z.ndim == 2 and z.shape[0] == 1 and kind != "surface":
+        z = z[0]
+    if z.ndim not in (1, 2) or not np.issubdtype(z.dtype, np.number):
+        raise MalformedFileError(f"{path}: expected a numeric profile (1-D) or surface (2-D), "
+                                 f"got {z.dtype} of shape {z.shape}")
+    z = np.asarray(z, dtype=np.float64)
+    d = 1.0 if spacing is None else spacing
+    source = _GIVEN if spacing is not None else "assumed: a .npy file stores none; give --spacing"
+    return Measurement(z, (d,) * z.ndim, source, reader="numpy .npy")
 
 
+def _height_map(hm, spacing, source, unit_source, reader):
+    if spacing is not None:
+        return Measurement(hm.z, (spacing,) * hm.z.ndim, _GIVEN + ", not the file's",
+                           unit_source, reader, hm.meta)
+    return Measurement(hm.z, tuple(hm.spacing), source, unit_source, reader, hm.meta)
 
-def read_measurement(path, *, kind: str = "auto", spacing: float | None = None) -> Measurement:
-    """Read a profile or a surface (heights in um) from any of :data:`READ_FORMATS`.
 
-    ``kind`` forces "profile" or "surface" for text tables; ``spacing`` (um) overrides the
-    file's own (x3p, xyz, a profile's x column, the comment of a ``roughgp simulate`` CSV);
-    without either it is 1 µm. A missing file raises ``FileNotFoundError``; a file that is
-    not what its extension says, :class:`~roughgp.metrology.readers.MalformedFileError`.
-    """
-    path = _check_input(path)
-    if spacing is not None and not (math.isfinite(spacing) and spacing > 0):
-        raise ValueError(f"spacing must be > 0 (um), got {spacing!r}")
-    ext = path.suffix.lower()
-    if ext == ".npy":
-        with open(path, "rb") as stream:
-            if stream.read(6) != b"\x93NUMPY":
-                raise readers.MalformedFileError(f"{path}: not a .npy file (no NumPy header)")
-        try:
-            z = np.load(path, allow_pickle=False)
-        except (ValueError, OSError, EOFError) as exc:
-            raise readers.MalformedFileError(f"{path}: not a readable .npy array ({exc})") \
-                from None
-        if z.ndim == 2 and z.shape[0] == 1 and kind != "surface":
-            z = z[0]
-        if z.ndim not in (1, 2) or not np.issubdtype(z.dtype, np.number):
-            raise readers.MalformedFileError(f"{path}: expected a numeric profile (1-D) or "
-                                             f"surface (2-D), got {z.dtype} of shape "
-                                             f"{z.shape}")
-        z = np.asarray(z, dtype=np.float64)
-        d = 1.0 if spacing is None else spacing
-        source = (_GIVEN if spacing is not None
-                  else "assumed: a .npy file stores none; give --spacing")
-        return Measurement(z, (d,) * z.ndim, source)
-    if ext == ".x3p":
-        hm = readers.read_x3p(path)
-        if spacing is not None:
-            return Measurement(hm.z, (spacing,) * hm.z.ndim, _GIVEN + ", not the file's")
-        return Measurement(hm.z, tuple(hm.spacing), "from the x3p file")
-    if ext == ".xyz":
-        z, (dy, dx) = readers.read_xyz(path)
-        if spacing is not None:
-            return Measurement(z, (spacing, spacing), _GIVEN + ", not the file's")
-        return Measurement(z, (dy, dx), "from the x y positions")
-
-    # text tables: a roughgp CSV says what it is; otherwise 1 or 2 columns are a profile
-    header_kind, header_spacing = _csv_header(path)
+def _text(path: Path, kind: str, spacing) -> Measurement:
+    header_kind, header_spacing, units = _text_header(path)
     table, _ = readers.read_surface(path, spacing=1.0)
     if kind == "auto":
         kind = header_kind or ("profile" if table.shape[1] <= 2 else "surface")
@@ -140,16 +158,77 @@ def read_measurement(path, *, kind: str = "auto", spacing: float | None = None) 
     else:
         step, source = 1.0, "assumed: the file states none; give --spacing"
     if kind == "surface":
-        return Measurement(table, (step, step), source)
+        return Measurement(table, (step, step), source, reader="roughgp text grid")
     if table.shape[1] == 1:  # heights only
         _, z = readers.read_profile(path, spacing=step)
-        return Measurement(z, (step,), source)
-    x, z = readers.read_profile(path)  # x, z columns
+        return Measurement(z, (step,), source, reader="roughgp text profile")
+    x_unit = units[0] if units else None
+    z_unit = units[1] if len(units) > 1 else None
+    scales = (UM_PER_UNIT[x_unit] if x_unit else 1.0, UM_PER_UNIT[z_unit] if z_unit else 1.0)
+    x, z, digits = readers.read_profile(path, unit_scale=scales, return_digits=True)
+    unit_source = (f"{z_unit} (from the column header)" if z_unit
+                   else "um (assumed: the file states none)")
     if spacing is None:
-        step, source = _profile_spacing(x, path), "from the x column"
-    return Measurement(z, (step,), source)
+        step, residual = readers.profile_step(x, digits, path=path)
+        source = "from the x column" + (f" ({x_unit}, from the column header)" if x_unit
+                                        else " (its unit assumed um)")
+        if residual > 1e-6 * step:
+            source += (f": x printed rounded, on the grid within {residual:.3g} um (the "
+                       "printed digits' rounding)")
+    return Measurement(z, (step,), source, unit_source, "roughgp text profile")
 
 
+def read_measurement(path, *, kind: str = "auto", spacing: float | None = None,
+                     channel: int = 0, unit: str | None = None) -> Measurement:
+    """Read a profile or a surface (heights in µm) from a file of any format read.
+
+    Args:
+        path: the file.
+        kind: ``"auto"``, or ``"profile"`` / ``"surface"`` for a text table.
+        spacing: µm, overriding the file's (x3p, instruments, xyz, a profile's x column, the
+            comment of a ``roughgp simulate`` CSV); without either it is 1 µm (and says so).
+        channel: the data channel of an instrument file (AFM files hold several).
+        unit: the length unit of an instrument file that states none.
+
+    Raises:
+        FileNotFoundError: no such file.
+        MalformedFileError: a file that cannot be read as what it is (the message names it).
+        ValueError: a bad argument (named).
+    """
+    path = _check_input(path)
+    if kind not in ("auto", "profile", "surface"):
+        raise ValueError(f"kind must be 'auto', 'profile' or 'surface', got {kind!r}")
+    if spacing is not None and not (math.isfinite(spacing) and spacing > 0):
+        raise ValueError(f"spacing must be > 0 (um), got {spacing!r}")
+    ext = path.suffix.lower()
+    if ext == ".npy":
+        return _npy(path, kind, spacing)
+    if ext == ".x3p":
+        hm = read_x3p(path)
+        return _height_map(hm, spacing, "from the x3p file", "m (x3p stores metres), converted to um",
+                           "roughgp x3p" + (f", {hm.meta['reader']}" if "reader" in hm.meta
+                                            else " (x3pio)"))
+    if ext == ".xyz":
+        z, (dy, dx) = readers.read_xyz(path)
+        if spacing is not None:
+            return Measurement(z, (spacing, spacing), _GIVEN + ", not the file's",
+                               reader="roughgp xyz")
+        return Measurement(z, (dy, dx), "from the x y positions", reader="roughgp xyz")
+    if ext in TEXT_FORMATS and _is_text(path):
+        return _text(path, kind, spacing)
+    try:
+        hm = read_instrument(path, channel=channel, unit=unit)
+    except MalformedFileError as error:
+        if "no reader recognises" not in str(error):
+            raise
+        raise MalformedFileError(f"{path}: not a format roughgp reads ({', '.join(READ_FORMATS)}"
+                                 ") nor one that SurfaceTopography recognises by its content "
+                                 "(instrument formats: roughgp texture --help lists them)") \
+            from None
+    unit_source = hm.meta["unit"]
+    if not unit_source.startswith("um"):
+        unit_source += ", converted to um"
+    return _height_map(hm, spacing, "from the file", unit_source, hm.meta["reader"])
 
 
 def mean_profile(heights: Measurement, axis: str = "x") -> tuple[np.ndarray, float, str]:

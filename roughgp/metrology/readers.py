@@ -1,10 +1,10 @@
-"""Readers and writers for a user's own measurements: text / CSV profiles and height grids,
-x-y-z point files on a regular grid, and ISO 25178-72 ``.x3p`` files (through ``x3pio``).
+"""Readers for a user's own measurements in text: CSV / text profiles and height grids, and
+x-y-z point files on a regular grid (``.x3p``: :mod:`roughgp.metrology.x3p`; instrument
+formats: :mod:`roughgp.metrology.instruments`).
 
 Layout and units (the library's convention, :mod:`roughgp.common.grid`): a profile is ``z[ix]``, a
 surface ``z[iy, ix]`` (rows are y, y grows with the row index); ``spacing`` is in array order,
-``(dy, dx)``. Text readers return values in the file's units times ``unit_scale``; x3p files
-are read and written in micrometres (the file itself stores metres). ``NaN`` marks a point
+``(dy, dx)``. Text readers return values in the file's units times ``unit_scale``. ``NaN`` marks a point
 that was not measured; it is allowed in heights, never in positions or spacings.
 
 Text files: blank lines and lines starting with ``#``, ``%`` or ``//`` are skipped anywhere;
@@ -12,7 +12,8 @@ with ``skiprows="auto"`` the non-numeric lines before the first numeric one (a h
 skipped too, and a non-numeric line after it is an error. ``delimiter=None`` splits on commas,
 semicolons, tabs and spaces (one trailing delimiter on a line is ignored); decimal commas are
 not supported. A height written as ``nan``, ``NA`` or an empty field (explicit delimiter) is a
-missing point.
+missing point. Printed x positions are rounded: :func:`profile_step` accepts a grid whose
+residuals stay within the rounding of the printed digits.
 
 Every problem with a file raises :class:`MalformedFileError` (a ``ValueError``) whose message
 starts with the file name (and the line, for text files) and says what is wrong; a bad
@@ -22,31 +23,29 @@ any large allocation: a grid of more than :data:`MAX_POINTS` points is refused.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import os
 import re
-import types
-import zipfile
-import zlib
 
 import numpy as np
 
 from roughgp.common.checks import check_positive
 from roughgp.common.grid import normalize
 
-__all__ = ["MAX_POINTS", "MAX_XML_BYTES", "MalformedFileError", "HeightMap", "read_profile",
-           "read_surface", "read_xyz", "read_x3p", "write_x3p"]
+__all__ = ["MAX_POINTS", "MalformedFileError", "read_profile",
+           "read_surface", "read_xyz", "profile_step", "ROUNDING_TOLERANCE"]
 
 #: Largest number of grid points a reader allocates (2**28 = 268 million: 2 GiB of float64).
 MAX_POINTS = 2 ** 28
-#: Largest uncompressed ``main.xml`` of an x3p file that is parsed (256 MiB).
-MAX_XML_BYTES = 2 ** 28
 
 _UM_PER_M = 1e6
 _COMMENT = ("#", "%", "//")
 _AUTO_SPLIT = re.compile(r"\s*[,;\t]\s*|\s+")
 _MISSING = frozenset({"", "nan", "-nan", "+nan", "na", "n/a"})
+_DECIMAL = re.compile(r"^[+-]?(\d*)(?:\.(\d*))?(?:[eE]([+-]?\d+))?$")
+#: A printed x is on the grid when its residual is within this many units of its last digit
+#: (0.5: rounding to the printed digits; the rest: the least-squares line's own error).
+ROUNDING_TOLERANCE = 0.51
 
 
 class MalformedFileError(ValueError):
@@ -73,9 +72,19 @@ def _token(text: str) -> float:
         raise
 
 
-def _read_table(path, *, delimiter=None, skiprows="auto"):
+def _last_digit_unit(token: str) -> float:
+    """The unit of the last printed digit of a number (``"1.25"`` -> 0.01, ``"3e-4"`` ->
+    1e-4); NaN where the token is not a plain decimal number."""
+    m = _DECIMAL.match(token.strip())
+    if m is None:
+        return math.nan
+    return 10.0 ** (int(m.group(3) or 0) - len(m.group(2) or ""))
+
+
+def _read_table(path, *, delimiter=None, skiprows="auto", units_of=None):
     """Parse a numeric text table: returns ``(values, lines)``, the values as a float64 array
-    of shape (rows, columns) and the 1-based line number of each row."""
+    of shape (rows, columns) and the 1-based line number of each row; with ``units_of`` (a
+    column index) also the unit of the last printed digit of that column, per row."""
     if skiprows != "auto" and not (isinstance(skiprows, (int, np.integer))
                                    and not isinstance(skiprows, bool) and skiprows >= 0):
         raise ValueError(f"skiprows must be 'auto' or an integer >= 0, got {skiprows!r}")
@@ -91,6 +100,7 @@ def _read_table(path, *, delimiter=None, skiprows="auto"):
 
     flat: list[float] = []
     lines: list[int] = []
+    units: list[float] = []
     width = None
     with open(path, encoding="utf-8-sig", errors="replace", newline=None) as stream:
         for number, raw in enumerate(stream, start=1):
@@ -116,9 +126,17 @@ def _read_table(path, *, delimiter=None, skiprows="auto"):
                                  f"{lines[0]}) has {width}", number)
             flat.extend(row)
             lines.append(number)
+            if isinstance(units_of, (int, np.integer)) and not isinstance(units_of, bool) \
+                    and -width <= units_of < width:
+                units.append(_last_digit_unit(tokens[units_of]))
     if not lines:
         raise _bad(path, "no rows of numbers found")
-    return np.array(flat, dtype=np.float64).reshape(len(lines), width), lines
+    values = np.array(flat, dtype=np.float64).reshape(len(lines), width)
+    if units_of is None:
+        return values, lines
+    digits = np.array(units, dtype=np.float64) if len(units) == len(lines) else \
+        np.full(len(lines), np.nan)
+    return values, lines, digits
 
 
 def _check_column(path, name, column, width):
@@ -144,7 +162,7 @@ def _scale(name, value):
 
 
 def read_profile(path, *, x_column=0, z_column=None, spacing=None, delimiter=None,
-                 skiprows="auto", unit_scale=1.0):
+                 skiprows="auto", unit_scale=1.0, return_digits=False):
     """Read a profile from a text / CSV file: columns (x, z), or heights only.
 
     Args:
@@ -157,10 +175,14 @@ def read_profile(path, *, x_column=0, z_column=None, spacing=None, delimiter=Non
         delimiter, skiprows: see the module docstring.
         unit_scale: > 0, a factor applied to the values read (e.g. 1000 for millimetres to
             micrometres); a pair ``(x_scale, z_scale)`` scales x and z differently.
+        return_digits: also return, per point, the unit of the last printed digit of x
+            (scaled like x): what :func:`profile_step` needs to tell rounding from an
+            irregular grid.
 
     Returns:
-        ``(x, z)``: float64 arrays of shape (n,), ``n >= 2``. x is finite and strictly
-        increasing (not necessarily uniform); z may hold NaN for missing points.
+        ``(x, z)`` (or ``(x, z, x_digit_units)``): float64 arrays of shape (n,), ``n >= 2``.
+        x is finite and strictly increasing (not necessarily uniform); z may hold NaN for
+        missing points.
 
     Raises:
         MalformedFileError: naming the file and line: non-numeric data, ragged rows, a
@@ -173,7 +195,9 @@ def read_profile(path, *, x_column=0, z_column=None, spacing=None, delimiter=Non
         spacing = _scale("spacing", spacing)
         if np.ndim(spacing) != 0:
             raise ValueError(f"spacing must be a scalar for a profile, got {spacing!r}")
-    values, lines = _read_table(path, delimiter=delimiter, skiprows=skiprows)
+    table = _read_table(path, delimiter=delimiter, skiprows=skiprows,
+                        units_of=None if spacing is not None else x_column)
+    values, lines = table[0], table[1]
     width = values.shape[1]
     if z_column is None:
         z_column = 0 if spacing is not None else 1
@@ -198,7 +222,50 @@ def read_profile(path, *, x_column=0, z_column=None, spacing=None, delimiter=Non
         raise _bad(path, f"x must be strictly increasing, but x = {x[i]!r} follows "
                          f"x = {x[i - 1]!r} (column x_column={x_column}; sort the file or "
                          "check the column)", lines[i])
+    if return_digits:
+        return np.ascontiguousarray(x), np.ascontiguousarray(z), table[2] * scales[0]
     return np.ascontiguousarray(x), np.ascontiguousarray(z)
+
+
+def profile_step(x, digit_units=None, *, path="x"):
+    """The step of a profile's x positions, as a regular grid ``x = x0 + i * dx``.
+
+    ``x0`` and ``dx`` are fitted by least squares. Instruments and spreadsheets print x
+    rounded (to 0.1 um, or to 6 significant digits), so the grid is accepted when every
+    residual stays within the rounding of its printed digits (:data:`ROUNDING_TOLERANCE`
+    times the unit of its last digit, ``digit_units``) or within 1e-6 of the step; anything
+    larger is an irregular grid and is refused.
+
+    Returns:
+        ``(dx, largest residual)``.
+
+    Raises:
+        MalformedFileError: naming ``path``: fewer than 2 points, or an irregular grid (the
+            message gives the largest residual and the rounding allowed).
+    """
+    x = np.asarray(x, dtype=np.float64)
+    n = x.size
+    if n < 2:
+        raise _bad(path, f"a profile needs at least 2 points, found {n}")
+    i = np.arange(n, dtype=np.float64)
+    units = np.zeros(n) if digit_units is None else np.asarray(digit_units, dtype=np.float64)
+    units = np.where(np.isfinite(units), units, 0.0)
+    # weighted by the printed precision: finely printed points pin the line down
+    weights = None if not np.all(units > 0) else 1.0 / units
+    dx, x0 = np.polyfit(i, x, 1, w=weights)
+    residual = np.abs(x - (x0 + i * dx))
+    allowed = np.maximum(1e-6 * abs(dx), ROUNDING_TOLERANCE * units)
+    if not dx > 0 or np.any(residual > allowed + 1e-12 * np.abs(x)):
+        k = int(np.argmax(residual - allowed))
+        steps = np.diff(x)
+        raise _bad(path, f"the x column is not a regular grid: x = {float(x[k])!r} (point {k}) is "
+                         f"{residual[k]:.3g} off the line x0 + i*dx (dx = {dx:.6g}), more "
+                         f"than the rounding of its printed digits allows ({allowed[k]:.3g}); "
+                         f"steps from {steps.min():.6g} to {steps.max():.6g}. Give the "
+                         "spacing to read the heights alone (--spacing)")
+    if residual.max() <= 1e-6 * dx:  # an exact grid: the end-to-end step, free of fit noise
+        dx = (x[-1] - x[0]) / (n - 1)
+    return float(dx), float(residual.max())
 
 
 def read_surface(path, *, spacing, delimiter=None, skiprows="auto", unit_scale=1.0):
@@ -310,174 +377,3 @@ def read_xyz(path, *, columns=(0, 1, 2), delimiter=None, skiprows="auto", unit_s
     grid = np.full(ny * nx, np.nan)
     grid[flat] = z
     return grid.reshape(ny, nx), (dy, dx)
-
-
-# --------------------------------------------------------------------------- x3p
-
-@dataclasses.dataclass(frozen=True)
-class HeightMap:
-    """Heights read from an x3p file.
-
-    Attributes:
-        z: float64 heights in micrometres, ``z[ix]`` (profile) or ``z[iy, ix]`` (surface,
-            rows are y, y growing with the row index); NaN marks points not measured.
-        spacing: the grid steps in micrometres in array order: ``(dx,)`` or ``(dy, dx)``.
-        unit: ``"um"`` (micrometres), the unit of ``z`` and ``spacing``.
-        meta: read-only mapping with what the file says besides the heights:
-            ``feature_type``, ``revision``, ``layer_count``, ``offset`` (x, y, z of the
-            first point, micrometres), ``creator``, ``date``, ``instrument``,
-            ``probing_system``, ``comment`` (``None`` where the file has none).
-    """
-
-    z: np.ndarray
-    spacing: tuple[float, ...]
-    unit: str = "um"
-    meta: types.MappingProxyType = dataclasses.field(
-        default_factory=lambda: types.MappingProxyType({}))
-
-
-def _x3pio():
-    import x3pio  # imported here: only the x3p functions need it
-    return x3pio
-
-
-def _check_container(path):
-    """The zip-level checks x3pio leaves to its caller: main.xml's declared size."""
-    try:
-        with zipfile.ZipFile(path) as archive:
-            infos = [i for i in archive.infolist() if not i.is_dir()]
-    except zipfile.BadZipFile as error:
-        raise _bad(path, f"not an x3p file: not a (valid) zip archive ({error})") from None
-    mains = [i for i in infos if i.filename.replace("\\", "/").split("/")[-1] == "main.xml"]
-    if not mains:
-        raise _bad(path, "not an x3p file: the zip archive holds no main.xml")
-    for info in mains:
-        if info.file_size > MAX_XML_BYTES:
-            raise _bad(path, f"{info.filename} declares {info.file_size} bytes, more than "
-                             f"MAX_XML_BYTES = {MAX_XML_BYTES}")
-
-
-def _text(value):
-    return None if value is None else str(value)
-
-
-def read_x3p(path, *, layer=0) -> HeightMap:
-    """Read a profile or a surface from an ISO 25178-72 ``.x3p`` file, in micrometres.
-
-    x3p stores lengths and heights in metres; they are multiplied by 1e6 here. x3pio gives
-    a surface layer as ``(rows, columns) = (SizeY, SizeX)`` with y growing with the row
-    (the data file runs x fastest), which is already ``z[iy, ix]``: no transpose is needed.
-    An axis with a negative increment is flipped so that positions grow with the index.
-    The MD5 checksums of ``main.xml`` and of the binary data are verified by x3pio (a
-    missing checksum is accepted, as x3pio does); XML is parsed by defusedxml (entity
-    expansion refused).
-
-    Args:
-        path: the file.
-        layer: which layer of a multi-layer file (0-based).
-
-    Returns:
-        A :class:`HeightMap`.
-
-    Raises:
-        MalformedFileError: naming the file: not a zip / damaged zip, no main.xml, wrong
-            checksum, XML entities or other invalid XML, more than :data:`MAX_POINTS` points
-            (refused before the data are read), data of another size than declared,
-            non-finite or zero spacing, a point cloud or an irregular (absolute) x / y axis.
-        FileNotFoundError / OSError: the file cannot be opened.
-    """
-    x3pio = _x3pio()
-    expected = (x3pio.X3pError, zipfile.BadZipFile, zlib.error, EOFError,
-                NotImplementedError, UnicodeDecodeError)
-    _check_container(path)
-    try:
-        info = x3pio.info(path)
-    except expected as error:
-        raise _bad(path, f"not a valid x3p file: {error}") from None
-    header = info.header
-    kind = info.feature_type.name
-    if kind not in ("PROFILE", "SURFACE"):
-        raise _bad(path, f"holds a {kind.lower().replace('_', ' ')}, not a profile or a "
-                         "surface on a regular grid")
-    axes = (("y", header.y), ("x", header.x)) if kind == "SURFACE" else (("x", header.x),)
-    for name, axis in axes:
-        if not axis.is_incremental:
-            raise _bad(path, f"the {name} axis is absolute (irregular positions): only "
-                             "regular grids are read")
-        if not (math.isfinite(axis.increment) and axis.increment != 0):
-            raise _bad(path, f"the {name} increment {axis.increment!r} is not finite and "
-                             "non-zero")
-    points = math.prod(info.shape) * info.layer_count
-    if points > MAX_POINTS:
-        shape = " x ".join(str(n) for n in info.shape)
-        raise _bad(path, f"declares {info.layer_count} layer(s) of {shape} = {points} points, "
-                         f"more than MAX_POINTS = {MAX_POINTS}")
-    if not (isinstance(layer, (int, np.integer)) and 0 <= layer < info.layer_count):
-        raise ValueError(f"layer must be an integer in [0, {info.layer_count}) for "
-                         f"{_name(path)}, got {layer!r}")
-
-    try:
-        file = x3pio.read(path)
-    except expected as error:
-        raise _bad(path, f"not a valid x3p file: {error}") from None
-    z = np.array(file.layers[layer].z, dtype=np.float64) * _UM_PER_M
-    z[np.isinf(z)] = np.nan  # x3pio already reads inf as "not measured"; be sure
-    if z.ndim != len(axes):
-        raise _bad(path, f"layer {layer} has shape {z.shape}, expected {len(axes)}-D")
-    spacing = []
-    for ax, (name, axis) in enumerate(axes):
-        if axis.increment < 0:
-            z = np.flip(z, axis=ax)
-        spacing.append(abs(float(axis.increment)) * _UM_PER_M)
-
-    metadata = info.metadata
-    instrument = getattr(metadata, "instrument", None)
-    probing = getattr(metadata, "probing_system", None)
-    meta = {
-        "feature_type": kind.lower(),
-        "revision": _text(getattr(info.revision, "value", info.revision)),
-        "layer_count": info.layer_count,
-        "offset": tuple(float(v) * _UM_PER_M for v in info.placement.offset),
-        "creator": _text(getattr(metadata, "creator", None)),
-        "date": getattr(metadata, "date", None),
-        "instrument": None if instrument is None else " ".join(
-            str(v) for v in (instrument.manufacturer, instrument.model, instrument.serial,
-                             instrument.version) if v),
-        "probing_system": None if probing is None else " ".join(
-            str(getattr(v, "name", v)) for v in (probing.type, probing.identification) if v),
-        "comment": _text(getattr(metadata, "comment", None)),
-    }
-    return HeightMap(np.ascontiguousarray(z), tuple(spacing), "um",
-                     types.MappingProxyType(meta))
-
-
-def write_x3p(path, z, spacing, *, comment=None) -> None:
-    """Write a profile ``z[ix]`` or a surface ``z[iy, ix]`` to an ISO 25178-72 ``.x3p`` file.
-
-    The layout is that of :func:`read_x3p`: heights and ``spacing`` (scalar or array order,
-    ``(dy, dx)``) in micrometres; they are stored in metres (times 1e-6) as float64 with
-    x3pio's documented ``x3pio.write``, so ``read_x3p`` gives them back to float rounding.
-    NaN marks a missing point; infinite heights are refused. ``Record2`` names roughgp as
-    the software (x3p's record of data not measured), with ``comment`` if given.
-
-    Raises:
-        ValueError: ``z`` not 1-D / 2-D or holding infinite values, or a bad ``spacing``.
-    """
-    x3pio = _x3pio()
-    arr = np.asarray(z, dtype=np.float64)
-    if arr.ndim not in (1, 2) or arr.size == 0:
-        raise ValueError(f"z must be a non-empty profile z[ix] or surface z[iy, ix], "
-                         f"got shape {arr.shape}")
-    if np.any(np.isinf(arr)):
-        raise ValueError("z must not hold infinite values (NaN marks a missing point)")
-    _, spacing = normalize(arr.shape, spacing)
-    from roughgp import __version__
-    metadata = x3pio.Metadata.for_software("roughgp", __version__)
-    metadata.comment = None if comment is None else str(comment)
-    options = {"metadata": metadata}
-    heights = arr / _UM_PER_M
-    if arr.ndim == 1:
-        x3pio.write(path, heights, x_scale=float(spacing[0]) / _UM_PER_M, **options)
-    else:
-        x3pio.write(path, heights, x_scale=float(spacing[1]) / _UM_PER_M,
-                    y_scale=float(spacing[0]) / _UM_PER_M, **options)

@@ -2,7 +2,7 @@
 
 ``.npy`` (the array), ``.csv`` (text that :func:`roughgp.metrology.measurement.read_measurement`
 reads back: a profile as x, z columns, a surface one row per y, the spacing in a comment) and
-``.x3p`` (ISO 25178-72, through :func:`roughgp.metrology.readers.write_x3p`).
+``.x3p`` (ISO 25178-72, through :func:`roughgp.metrology.x3p.write_x3p`).
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from roughgp.metrology import readers
+from roughgp.metrology.x3p import write_x3p
 
 __all__ = ["WRITE_FORMATS", "check_write_format", "write_heights"]
 
@@ -42,7 +42,7 @@ def write_heights(path, z: np.ndarray, spacing, comment: str) -> None:
     if ext == ".npy":
         np.save(path, z)
     elif ext == ".x3p":
-        readers.write_x3p(path, z, spacing, comment=comment)
+        write_x3p(path, z, spacing, comment=comment)
     elif z.ndim == 1:  # the (x, z) columns that readers.read_profile reads
         with open(path, "w", encoding="utf-8", newline="\n") as out:
             out.write(f"# roughgp profile: x and z in micrometres ({comment})\n"

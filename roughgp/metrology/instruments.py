@@ -1,0 +1,133 @@
+"""Instrument files of every common format, through SurfaceTopography (MIT, maintained).
+
+SurfaceTopography detects the format by content (Digital Surf ``.sur``, Wyko ``.opd``,
+NanoScope ``.di``, Sensofar ``.plu`` / ``.plux``, Zygo ``.datx`` and MetroPro ``.dat``,
+MountainsMap ``.mnt``, Nanosurf ``.nms``, Keyence ``.vk4``, ``.sdf``, Gwyddion ``.gwy`` and
+about thirty more: :func:`instrument_formats`). :func:`read_instrument` converts what it
+returns to roughgp's conventions: heights and spacing in micrometres from the file's own unit,
+masked (unmeasured) points as NaN, and the layout ``z[iy, ix]`` (SurfaceTopography's
+``heights()`` is ``[ix, iy]``: transposed here), spacing ``(dy, dx)``.
+"""
+
+from __future__ import annotations
+
+import types
+import warnings
+
+import numpy as np
+
+from roughgp.metrology.readers import MAX_POINTS, MalformedFileError, profile_step
+from roughgp.metrology.x3p import HeightMap
+
+__all__ = ["UM_PER_UNIT", "read_instrument", "instrument_formats"]
+
+#: Micrometres per length unit, for the units SurfaceTopography reports.
+UM_PER_UNIT = {"km": 1e9, "m": 1e6, "cm": 1e4, "mm": 1e3, "µm": 1.0, "um": 1.0, "μm": 1.0,
+               "nm": 1e-3, "Å": 1e-4, "A": 1e-4, "pm": 1e-6}
+
+
+def _topography_io():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        import SurfaceTopography.IO as io  # imported here: only instrument files need it
+    return io
+
+
+def instrument_formats() -> list[tuple[str, str]]:
+    """``(format, name)`` of every reader of SurfaceTopography, e.g. ``("sur", "Digital
+    Surf SUR")``."""
+    io = _topography_io()
+    out = []
+    for reader in io.readers:
+        try:
+            out.append((str(reader.format()), str(reader.name())))
+        except Exception:  # noqa: BLE001 - a reader without a name is left out of the list
+            continue
+    return out
+
+
+def _factor(path, unit, given):
+    if given is not None:
+        if given not in UM_PER_UNIT:
+            raise ValueError(f"unit must be one of {', '.join(UM_PER_UNIT)}, got {given!r}")
+        return UM_PER_UNIT[given], f"{given} (as given)"
+    if unit is None:
+        raise MalformedFileError(f"{path}: the file states no length unit; give the unit "
+                                 f"(one of {', '.join(UM_PER_UNIT)})")
+    if unit not in UM_PER_UNIT:
+        raise MalformedFileError(f"{path}: the file's unit {unit!r} is not a length unit "
+                                 f"roughgp knows ({', '.join(UM_PER_UNIT)})")
+    return UM_PER_UNIT[unit], f"{unit} (from the file)"
+
+
+def read_instrument(path, *, channel=0, unit=None) -> HeightMap:
+    """Read a profile or a surface from an instrument file, in micrometres.
+
+    Args:
+        path: the file (any format SurfaceTopography detects).
+        channel: index of the data channel (e.g. height, phase, amplitude of an AFM file);
+            ``meta["channels"]`` lists them.
+        unit: the file's length unit where it states none (or to override it).
+
+    Returns:
+        A :class:`~roughgp.metrology.x3p.HeightMap`: ``z[ix]`` or ``z[iy, ix]`` in µm with
+        NaN at unmeasured points, ``spacing`` in µm in array order, and ``meta`` (the reader,
+        the channel and its name, the file's unit, the instrument as SurfaceTopography reports
+        it).
+
+    Raises:
+        MalformedFileError: naming the file: no reader recognises it, it cannot be read, it
+            states no unit (and none is given), or it holds more than :data:`MAX_POINTS`.
+    """
+    io = _topography_io()
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            reader = io.open_topography(str(path))
+    except io.CannotDetectFileFormat:
+        raise MalformedFileError(f"{path}: not a format that roughgp or SurfaceTopography "
+                                 "reads (no reader recognises its content)") from None
+    except (OSError, ValueError, KeyError, IndexError, EOFError) as error:
+        raise MalformedFileError(f"{path}: cannot be read ({type(error).__name__}: "
+                                 f"{error})") from None
+    names = [str(c.name) for c in reader.channels]
+    if not (isinstance(channel, (int, np.integer)) and 0 <= channel < len(names)):
+        raise ValueError(f"channel must be an integer in [0, {len(names)}) for {path} "
+                         f"(channels: {', '.join(names)}), got {channel!r}")
+    points = int(np.prod(reader.channels[channel].nb_grid_pts))
+    if points > MAX_POINTS:
+        raise MalformedFileError(f"{path}: {points} points exceed MAX_POINTS = {MAX_POINTS}")
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            topography = reader.topography(channel_index=int(channel))
+            heights = topography.heights()
+    except Exception as error:  # noqa: BLE001 - a reader's own failure, reported with the file
+        raise MalformedFileError(f"{path}: SurfaceTopography could not read channel "
+                                 f"{channel} ({type(error).__name__}: {error})") from None
+    factor, unit_source = _factor(path, topography.unit, unit)
+    z = np.ma.filled(np.ma.asarray(heights, dtype=np.float64), np.nan) * factor
+    z[~np.isfinite(z)] = np.nan
+    if getattr(topography, "is_uniform", True):
+        pixel = np.atleast_1d(np.asarray(topography.pixel_size, dtype=np.float64)) * factor
+    else:  # a line scan with x positions from the file: regular (to 1e-6) or refused
+        step, _ = profile_step(np.asarray(topography.positions(), dtype=np.float64) * factor,
+                               path=path)
+        pixel = np.array([step])
+    if z.ndim == 2:
+        z = z.T  # SurfaceTopography: [ix, iy]; roughgp: [iy, ix]
+        spacing = (float(pixel[1]), float(pixel[0]))
+    else:
+        spacing = (float(pixel[0]),)
+    info = dict(getattr(topography, "info", {}) or {})
+    instrument = info.get("instrument", {}) if isinstance(info.get("instrument"), dict) else {}
+    meta = {
+        "feature_type": "surface" if z.ndim == 2 else "profile",
+        "reader": f"SurfaceTopography {type(reader).__name__} ({reader.format()})",
+        "channel": int(channel), "channel_name": names[channel], "channels": tuple(names),
+        "unit": unit_source,
+        "instrument": " ".join(str(instrument[k]) for k in ("vendor", "name") if k in instrument)
+        or None,
+        "date": info.get("acquisition_time"),
+    }
+    return HeightMap(np.ascontiguousarray(z), spacing, "um", types.MappingProxyType(meta))

@@ -1,0 +1,109 @@
+"""ISO texture parameters of a measurement after its F-operator, S- and L-filters.
+
+:func:`filtered_parameters` runs the chain of :func:`roughgp.metrology.filters.surface_texture`
+(form removed, S- and L-filter with the standard's default nesting indices unless given) and
+computes the parameters of the resulting SL surface or roughness profile, as ISO 25178-3 and
+ISO 4288 describe: ISO 25178-2 areal parameters (:func:`roughgp.metrology.texture.areal_parameters`)
+or ISO 4287 / 13565-2 profile parameters. Unmeasured (NaN) points are left out of the point
+statistics (height and material-ratio parameters); the parameters that need a complete grid
+(Sal, Str, Std; RSm) are then NaN, with a note saying why.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from roughgp.metrology import texture
+from roughgp.metrology.filters import Texture, surface_texture
+
+__all__ = ["TextureReport", "filtered_parameters", "UNITS", "unit_of"]
+
+#: Units of the parameters that are not heights or lengths in µm.
+UNITS = {"Ssk": "", "Sku": "", "Rsk": "", "Rku": "", "Str": "", "Std": "deg",
+         "Smr1": "%", "Smr2": "%", "Mr1": "%", "Mr2": "%"}
+
+_AREAL_FROM_PROFILE = {"Ra": "Sa", "Rq": "Sq", "Rp": "Sp", "Rv": "Sv", "Rt": "Sz",
+                       "Rsk": "Ssk", "Rku": "Sku", "Rk": "Sk", "Rpk": "Spk", "Rvk": "Svk",
+                       "Mr1": "Smr1", "Mr2": "Smr2"}
+
+
+def unit_of(name: str) -> str:
+    """The unit of a texture parameter: µm (``"um"``) unless listed in :data:`UNITS`."""
+    return UNITS.get(name, "um")
+
+
+@dataclasses.dataclass
+class TextureReport:
+    """What :func:`filtered_parameters` returns.
+
+    Attributes:
+        parameters: ISO symbol -> value (NaN where undefined).
+        standard: which parameter set (areal or profile) and of which surface.
+        operators: the operators applied, e.g. ``["F: plane", "S: Gaussian 2.5 um",
+            "L: Gaussian 80 um"]`` (empty without filtering).
+        notes: why a parameter is NaN, how the cut-offs were chosen.
+        texture: the chain's :class:`~roughgp.metrology.filters.Texture` (None unfiltered).
+        heights: the heights the parameters were computed on.
+    """
+
+    parameters: dict
+    standard: str
+    operators: list
+    notes: list
+    texture: Texture | None
+    heights: np.ndarray
+
+
+def _point_statistics(h, areal):
+    """Height and material-ratio parameters of the measured points of ``h`` alone."""
+    values = h[np.isfinite(h)]
+    out = texture.height_parameters(values, undefined="nan")
+    out.update(texture.material_ratio_parameters(values, undefined="nan"))
+    if not areal:
+        return out
+    return {_AREAL_FROM_PROFILE[k]: v for k, v in out.items()}
+
+
+def filtered_parameters(z, spacing=1.0, *, form="plane", s="auto", l="auto", degree=2,
+                        axis="auto", filtered=True) -> TextureReport:
+    """ISO parameters of ``z`` (profile ``z[ix]`` or surface ``z[iy, ix]``, µm) after its
+    F-operator and S-/L-filters (module docstring).
+
+    Args:
+        spacing: scalar or ``(dy, dx)``.
+        form: ``"plane"`` (a line for a profile), ``"polynomial"`` (of ``degree``),
+            ``"cylinder"`` (along ``axis``: ``"x"``, ``"y"``, ``"auto"``) or None.
+        s, l: nesting indices in µm, ``"auto"`` (the standard's defaults) or None (off).
+        filtered: False: no F-, S- or L-operator at all: the heights referred to their mean
+            (the parameters of the primary surface "as measured").
+    """
+    z = np.asarray(z, dtype=np.float64)
+    areal = z.ndim == 2
+    notes = []
+    if filtered:
+        chain = surface_texture(z, spacing, form=form, s=s, l=l, degree=degree, axis=axis)
+        heights, operators = chain.sl, list(chain.operators)
+        if chain.cutoffs.reason:
+            notes.append(chain.cutoffs.reason)
+        what = ("SL surface" if chain.cutoffs.l is not None else "SF surface") if areal else \
+            ("roughness profile" if chain.cutoffs.l is not None else "primary profile, form removed")
+    else:
+        chain, heights, operators = None, z, []
+        what = "unfiltered heights, referred to their mean"
+    standard = (f"ISO 25178-2 areal parameters of the {what}" if areal else
+                f"ISO 4287 / ISO 13565-2 profile parameters of the {what}")
+    missing = int(np.count_nonzero(~np.isfinite(heights)))
+    if missing == 0:
+        params = (texture.areal_parameters(heights, spacing=spacing, undefined="nan") if areal
+                  else texture.profile_parameters(heights, spacing=float(np.ravel(spacing)[-1]),
+                                                  undefined="nan"))
+    else:
+        params = _point_statistics(heights, areal)
+        grid_only = ("Sal", "Str", "Std") if areal else ("RSm",)
+        params.update(dict.fromkeys(grid_only, float("nan")))
+        notes.append(f"{missing} of {heights.size} points unmeasured ({missing / heights.size:.1%}):"
+                     f" the height and material-ratio parameters are of the measured points; "
+                     f"{', '.join(grid_only)} need a complete grid (fill it: roughgp fill)")
+    return TextureReport(params, standard, operators, notes, chain, heights)

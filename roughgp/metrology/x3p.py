@@ -1,0 +1,388 @@
+"""ISO 25178-72 ``.x3p`` files read and written in micrometres (the file stores metres).
+
+:func:`read_x3p` reads a conforming file with x3pio and, where x3pio refuses a file for its
+form rather than its content (a top folder in the zip, as the R package x3ptools writes it;
+a ``main.xml`` without the schema's namespace), reads it with a lenient parser of its own
+(:func:`_read_lenient`) that applies the same checks: defusedxml (no entity expansion), the
+declared sizes before any allocation, the MD5 checksums where the file has them, and the
+data types of the standard (``I`` int16, ``L`` int32, ``F`` float32, ``D`` float64, with the
+z axis' increment applied as x3pio applies it, and the valid-points mask of integer data). Axis offsets are the
+placement of the first point and go to ``meta["offset"]``, as on the x3pio path. Invalid
+points are NaN. :func:`write_x3p` writes through x3pio.
+
+Layout: a surface is ``z[iy, ix]`` (the data file runs x fastest), spacing ``(dy, dx)``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import math
+import posixpath
+import types
+import zipfile
+import zlib
+
+import numpy as np
+
+from roughgp.common.grid import normalize
+from roughgp.metrology.readers import MAX_POINTS, MalformedFileError
+
+__all__ = ["MAX_XML_BYTES", "HeightMap", "read_x3p", "write_x3p"]
+
+#: Largest uncompressed ``main.xml`` of an x3p file that is parsed (256 MiB).
+MAX_XML_BYTES = 2 ** 28
+
+_UM_PER_M = 1e6
+_DTYPES = {"I": "<i2", "L": "<i4", "F": "<f4", "D": "<f8"}
+
+
+def _bad(path, problem: str) -> MalformedFileError:
+    return MalformedFileError(f"{path}: {problem}")
+
+
+@dataclasses.dataclass(frozen=True)
+class HeightMap:
+    """Heights read from an x3p file.
+
+    Attributes:
+        z: float64 heights in micrometres, ``z[ix]`` (profile) or ``z[iy, ix]`` (surface,
+            rows are y, y growing with the row index); NaN marks points not measured.
+        spacing: the grid steps in micrometres in array order: ``(dx,)`` or ``(dy, dx)``.
+        unit: ``"um"`` (micrometres), the unit of ``z`` and ``spacing``.
+        meta: read-only mapping with what the file says besides the heights:
+            ``feature_type``, ``revision``, ``layer_count``, ``offset`` (x, y, z of the
+            first point, micrometres), ``creator``, ``date``, ``instrument``,
+            ``probing_system``, ``comment`` (``None`` where the file has none).
+    """
+
+    z: np.ndarray
+    spacing: tuple[float, ...]
+    unit: str = "um"
+    meta: types.MappingProxyType = dataclasses.field(
+        default_factory=lambda: types.MappingProxyType({}))
+
+
+def _x3pio():
+    import x3pio  # imported here: only the x3p functions need it
+    return x3pio
+
+
+def _check_container(path):
+    """The zip-level checks x3pio leaves to its caller: main.xml's declared size."""
+    try:
+        with zipfile.ZipFile(path) as archive:
+            infos = [i for i in archive.infolist() if not i.is_dir()]
+    except zipfile.BadZipFile as error:
+        raise _bad(path, f"not an x3p file: not a (valid) zip archive ({error})") from None
+    mains = [i for i in infos if i.filename.replace("\\", "/").split("/")[-1] == "main.xml"]
+    if not mains:
+        raise _bad(path, "not an x3p file: the zip archive holds no main.xml")
+    for info in mains:
+        if info.file_size > MAX_XML_BYTES:
+            raise _bad(path, f"{info.filename} declares {info.file_size} bytes, more than "
+                             f"MAX_XML_BYTES = {MAX_XML_BYTES}")
+
+
+def _text(value):
+    return None if value is None else str(value)
+
+
+def read_x3p(path, *, layer=0) -> HeightMap:
+    """Read a profile or a surface from an ISO 25178-72 ``.x3p`` file, in micrometres.
+
+    x3p stores lengths and heights in metres; they are multiplied by 1e6 here. x3pio gives
+    a surface layer as ``(rows, columns) = (SizeY, SizeX)`` with y growing with the row
+    (the data file runs x fastest), which is already ``z[iy, ix]``: no transpose is needed.
+    An axis with a negative increment is flipped so that positions grow with the index.
+    The MD5 checksums of ``main.xml`` and of the binary data are verified by x3pio (a
+    missing checksum is accepted, as x3pio does); XML is parsed by defusedxml (entity
+    expansion refused).
+
+    Args:
+        path: the file.
+        layer: which layer of a multi-layer file (0-based).
+
+    Returns:
+        A :class:`HeightMap`.
+
+    Raises:
+        MalformedFileError: naming the file: not a zip / damaged zip, no main.xml, wrong
+            checksum, XML entities or other invalid XML, more than :data:`MAX_POINTS` points
+            (refused before the data are read), data of another size than declared,
+            non-finite or zero spacing, a point cloud or an irregular (absolute) x / y axis.
+        FileNotFoundError / OSError: the file cannot be opened.
+    """
+    x3pio = _x3pio()
+    expected = (x3pio.X3pError, zipfile.BadZipFile, zlib.error, EOFError,
+                NotImplementedError, UnicodeDecodeError)
+    _check_container(path)
+    try:
+        info = x3pio.info(path)
+    except x3pio.X3pChecksumError as error:
+        raise _bad(path, f"not a valid x3p file: {error}") from None
+    except x3pio.X3pFormatError as error:  # the form (a top folder, no namespace): lenient
+        try:
+            return _read_lenient(path, layer)
+        except MalformedFileError as lenient:
+            raise _bad(path, f"not a valid x3p file: {error}; read leniently: "
+                             f"{str(lenient).split(': ', 1)[-1]}") from None
+    except expected as error:
+        raise _bad(path, f"not a valid x3p file: {error}") from None
+    header = info.header
+    kind = info.feature_type.name
+    if kind not in ("PROFILE", "SURFACE"):
+        raise _bad(path, f"holds a {kind.lower().replace('_', ' ')}, not a profile or a "
+                         "surface on a regular grid")
+    axes = (("y", header.y), ("x", header.x)) if kind == "SURFACE" else (("x", header.x),)
+    for name, axis in axes:
+        if not axis.is_incremental:
+            raise _bad(path, f"the {name} axis is absolute (irregular positions): only "
+                             "regular grids are read")
+        if not (math.isfinite(axis.increment) and axis.increment != 0):
+            raise _bad(path, f"the {name} increment {axis.increment!r} is not finite and "
+                             "non-zero")
+    points = math.prod(info.shape) * info.layer_count
+    if points > MAX_POINTS:
+        shape = " x ".join(str(n) for n in info.shape)
+        raise _bad(path, f"declares {info.layer_count} layer(s) of {shape} = {points} points, "
+                         f"more than MAX_POINTS = {MAX_POINTS}")
+    if not (isinstance(layer, (int, np.integer)) and 0 <= layer < info.layer_count):
+        raise ValueError(f"layer must be an integer in [0, {info.layer_count}) for "
+                         f"{path}, got {layer!r}")
+
+    try:
+        file = x3pio.read(path)
+    except expected as error:
+        raise _bad(path, f"not a valid x3p file: {error}") from None
+    z = np.array(file.layers[layer].z, dtype=np.float64) * _UM_PER_M
+    z[np.isinf(z)] = np.nan  # x3pio already reads inf as "not measured"; be sure
+    if z.ndim != len(axes):
+        raise _bad(path, f"layer {layer} has shape {z.shape}, expected {len(axes)}-D")
+    spacing = []
+    for ax, (name, axis) in enumerate(axes):
+        if axis.increment < 0:
+            z = np.flip(z, axis=ax)
+        spacing.append(abs(float(axis.increment)) * _UM_PER_M)
+
+    metadata = info.metadata
+    instrument = getattr(metadata, "instrument", None)
+    probing = getattr(metadata, "probing_system", None)
+    meta = {
+        "feature_type": kind.lower(),
+        "revision": _text(getattr(info.revision, "value", info.revision)),
+        "layer_count": info.layer_count,
+        "offset": tuple(float(v) * _UM_PER_M for v in info.placement.offset),
+        "creator": _text(getattr(metadata, "creator", None)),
+        "date": getattr(metadata, "date", None),
+        "instrument": None if instrument is None else " ".join(
+            str(v) for v in (instrument.manufacturer, instrument.model, instrument.serial,
+                             instrument.version) if v),
+        "probing_system": None if probing is None else " ".join(
+            str(getattr(v, "name", v)) for v in (probing.type, probing.identification) if v),
+        "comment": _text(getattr(metadata, "comment", None)),
+    }
+    return HeightMap(np.ascontiguousarray(z), tuple(spacing), "um",
+                     types.MappingProxyType(meta))
+
+
+def write_x3p(path, z, spacing, *, comment=None) -> None:
+    """Write a profile ``z[ix]`` or a surface ``z[iy, ix]`` to an ISO 25178-72 ``.x3p`` file.
+
+    The layout is that of :func:`read_x3p`: heights and ``spacing`` (scalar or array order,
+    ``(dy, dx)``) in micrometres; they are stored in metres (times 1e-6) as float64 with
+    x3pio's documented ``x3pio.write``, so ``read_x3p`` gives them back to float rounding.
+    NaN marks a missing point; infinite heights are refused. ``Record2`` names roughgp as
+    the software (x3p's record of data not measured), with ``comment`` if given.
+
+    Raises:
+        ValueError: ``z`` not 1-D / 2-D or holding infinite values, or a bad ``spacing``.
+    """
+    x3pio = _x3pio()
+    arr = np.asarray(z, dtype=np.float64)
+    if arr.ndim not in (1, 2) or arr.size == 0:
+        raise ValueError(f"z must be a non-empty profile z[ix] or surface z[iy, ix], "
+                         f"got shape {arr.shape}")
+    if np.any(np.isinf(arr)):
+        raise ValueError("z must not hold infinite values (NaN marks a missing point)")
+    _, spacing = normalize(arr.shape, spacing)
+    from roughgp import __version__
+    metadata = x3pio.Metadata.for_software("roughgp", __version__)
+    metadata.comment = None if comment is None else str(comment)
+    options = {"metadata": metadata}
+    heights = arr / _UM_PER_M
+    if arr.ndim == 1:
+        x3pio.write(path, heights, x_scale=float(spacing[0]) / _UM_PER_M, **options)
+    else:
+        x3pio.write(path, heights, x_scale=float(spacing[1]) / _UM_PER_M,
+                    y_scale=float(spacing[0]) / _UM_PER_M, **options)
+
+
+# --------------------------------------------------------------------------- lenient reader
+
+def _local(tag: str) -> str:
+    return tag.rsplit("}", 1)[-1]
+
+
+def _find(element, *names):
+    """The first descendant path ``names`` of ``element``, ignoring XML namespaces."""
+    for name in names:
+        if element is None:
+            return None
+        element = next((c for c in element if _local(c.tag) == name), None)
+    return element
+
+
+def _value(element, *names, default=None):
+    found = _find(element, *names)
+    text = None if found is None else (found.text or "").strip()
+    return text if text else default
+
+
+def _number(path, element, names, default=None):
+    text = _value(element, *names)
+    if text is None:
+        if default is None:
+            raise _bad(path, f"main.xml has no {'/'.join(names)}")
+        return default
+    try:
+        return float(text)
+    except ValueError:
+        raise _bad(path, f"main.xml: {'/'.join(names)} is not a number: {text[:40]!r}") from None
+
+
+def _member(archive, root, link):
+    """The zip member that ``link`` (relative to the x3p root folder) names."""
+    name = posixpath.normpath(posixpath.join(root, link.replace("\\", "/")))
+    if name.startswith("..") or name.startswith("/"):
+        return None
+    names = {i.filename: i for i in archive.infolist()}
+    return names.get(name)
+
+
+def _checked_bytes(path, archive, info, expected_md5, what, limit):
+    if info.file_size > limit:
+        raise _bad(path, f"{what} declares {info.file_size} bytes, more than the "
+                         f"{limit} its declared size needs")
+    data = archive.read(info)
+    if expected_md5 and hashlib.md5(data).hexdigest().lower() != expected_md5.lower():
+        raise _bad(path, f"the MD5 checksum of {what} does not match the file "
+                         "(damaged or edited)")
+    return data
+
+
+def _read_lenient(path, layer=0) -> HeightMap:
+    """Read an x3p file that x3pio refuses for its form (module docstring)."""
+    from defusedxml import ElementTree
+
+    try:
+        archive = zipfile.ZipFile(path)
+    except zipfile.BadZipFile as error:
+        raise _bad(path, f"not an x3p file: not a (valid) zip archive ({error})") from None
+    with archive:
+        mains = [i for i in archive.infolist() if not i.is_dir()
+                 and posixpath.basename(i.filename.replace("\\", "/")) == "main.xml"
+                 and not i.filename.startswith("__MACOSX")]
+        if len(mains) != 1:
+            raise _bad(path, f"holds {len(mains)} main.xml files, expected one")
+        main = mains[0]
+        root_dir = posixpath.dirname(main.filename.replace("\\", "/"))
+        xml = archive.read(main)
+        checksum_file = _member(archive, root_dir, "md5checksum.hex")
+        if checksum_file is not None and checksum_file.file_size < 4096:
+            stated = archive.read(checksum_file).decode("ascii", "replace").split()
+            if stated and hashlib.md5(xml).hexdigest().lower() != stated[0].lower():
+                raise _bad(path, "the MD5 checksum of main.xml does not match md5checksum.hex")
+        try:
+            doc = ElementTree.fromstring(xml)
+        except Exception as error:  # defusedxml's refusals and XML syntax errors
+            raise _bad(path, f"main.xml is not acceptable XML ({type(error).__name__}: "
+                             f"{error})") from None
+        if _local(doc.tag) != "ISO5436_2" and _local(doc.tag) != "ISO5436":
+            raise _bad(path, f"main.xml has the root element <{_local(doc.tag)}>, not "
+                             "<ISO5436_2>")
+        r1, r3 = _find(doc, "Record1"), _find(doc, "Record3")
+        kind = (_value(r1, "FeatureType") or "").upper()
+        if kind not in ("SUR", "PRF"):
+            raise _bad(path, f"holds feature type {kind or '(none)'}: only profiles (PRF) and "
+                             "surfaces (SUR) on a regular grid are read")
+        axes = _find(r1, "Axes")
+        for name in ("CX", "CY") if kind == "SUR" else ("CX",):
+            if (_value(axes, name, "AxisType") or "I").upper() != "I":
+                raise _bad(path, f"the {name[1].lower()} axis is absolute (irregular "
+                                 "positions): only regular grids are read")
+        dx = _number(path, axes, ("CX", "Increment"))
+        dy = _number(path, axes, ("CY", "Increment"), default=dx) if kind == "SUR" else dx
+        for name, d in (("x", dx), ("y", dy)):
+            if not (math.isfinite(d) and d != 0 and abs(d) * _UM_PER_M > 1e-12):
+                raise _bad(path, f"the {name} increment {d!r} is not a finite, non-zero step")
+        dtype = (_value(axes, "CZ", "DataType") or "D").upper()
+        if dtype not in _DTYPES:
+            raise _bad(path, f"z data type {dtype!r} is not one of I, L, F, D")
+        z_scale = _number(path, axes, ("CZ", "Increment"), default=1.0)
+        z_offset = _number(path, axes, ("CZ", "Offset"), default=0.0)
+        if not (math.isfinite(z_scale) and z_scale != 0 and abs(z_scale) < 1e100
+                and math.isfinite(z_offset) and abs(z_offset) < 1e100):
+            raise _bad(path, f"the z increment {z_scale!r} / offset {z_offset!r} is not "
+                             "a usable scale (finite, non-zero, below 1e100)")
+        size = [int(_number(path, r3, ("MatrixDimension", n), default=1.0))
+                for n in ("SizeX", "SizeY", "SizeZ")]
+        if min(size) < 1:
+            raise _bad(path, f"declares an empty matrix (SizeX, SizeY, SizeZ = {size})")
+        points = math.prod(size)
+        if points > MAX_POINTS:
+            raise _bad(path, f"declares {size[2]} layer(s) of {size[1]} x {size[0]} = "
+                             f"{points} points, more than MAX_POINTS = {MAX_POINTS}")
+        if not (isinstance(layer, (int, np.integer)) and 0 <= layer < size[2]):
+            raise ValueError(f"layer must be an integer in [0, {size[2]}) for {path}, "
+                             f"got {layer!r}")
+        link = _value(r3, "DataLink", "PointDataLink")
+        info = None if link is None else _member(archive, root_dir, link)
+        if info is None:
+            raise _bad(path, f"the point data {link!r} named in main.xml is not in the archive")
+        item = np.dtype(_DTYPES[dtype])
+        raw = _checked_bytes(path, archive, info, _value(r3, "DataLink", "MD5ChecksumPointData"),
+                             link, points * item.itemsize)
+        if len(raw) != points * item.itemsize:
+            raise _bad(path, f"{link} holds {len(raw)} bytes; {size[1]} x {size[0]} x "
+                             f"{size[2]} points of {item} need {points * item.itemsize}")
+        values = np.frombuffer(raw, dtype=item).astype(np.float64)
+        values = values * z_scale  # as x3pio; the z offset is placement (meta), as x3pio keeps it
+        if dtype in ("I", "L"):
+            valid_link = _value(r3, "DataLink", "ValidPointsLink") or _value(r3, "ValidPointsLink")
+            valid = None if valid_link is None else _member(archive, root_dir, valid_link)
+            if valid is not None:
+                bits = np.frombuffer(_checked_bytes(path, archive, valid, None, valid_link,
+                                                    (points + 7) // 8), dtype=np.uint8)
+                mask = np.unpackbits(bits, bitorder="little")[:points].astype(bool)
+                if mask.size == points:
+                    values[~mask] = np.nan
+        values[~np.isfinite(values)] = np.nan
+        z = values.reshape(size[2], size[1], size[0])[layer] * _UM_PER_M
+        if kind == "PRF":
+            z = z.reshape(-1)
+        if dx < 0:
+            z = np.flip(z, axis=-1)
+        if kind == "SUR" and dy < 0:
+            z = np.flip(z, axis=0)
+        spacing = (abs(dy) * _UM_PER_M, abs(dx) * _UM_PER_M) if kind == "SUR" \
+            else (abs(dx) * _UM_PER_M,)
+        r2 = _find(doc, "Record2")
+        instrument = _find(r2, "Instrument")
+        offsets = tuple(_number(path, axes, (n, "Offset"), default=0.0) * _UM_PER_M
+                        for n in ("CX", "CY", "CZ"))
+        meta = {
+            "feature_type": "surface" if kind == "SUR" else "profile",
+            "revision": _value(r1, "Revision"), "layer_count": size[2], "offset": offsets,
+            "creator": _value(r2, "Creator"), "date": _value(r2, "Date"),
+            "instrument": None if instrument is None else " ".join(
+                v for v in (_value(instrument, n) for n in
+                            ("Manufacturer", "Model", "Serial", "Version")) if v),
+            "probing_system": " ".join(v for v in (_value(r2, "ProbingSystem", n)
+                                                   for n in ("Type", "Identification")) if v)
+            or None,
+            "comment": _value(r2, "Comment"),
+            "reader": "lenient (not read by x3pio: "
+                      + ("a top folder in the zip" if root_dir else "its form") + ")",
+        }
+    return HeightMap(np.ascontiguousarray(z), spacing, "um", types.MappingProxyType(meta))
