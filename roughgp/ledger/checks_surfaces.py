@@ -17,58 +17,30 @@ __all__ = ["check_figure2_simulation", "check_figure2_acvf", "check_error_values
 _CACHE: dict = {}
 
 
-def _figure2(seed=2):
-    """Figure 2's latent surface and surface (2000 x 2000, exact circulant embedding)."""
-    key = ("figure2", seed)
-    if key not in _CACHE:
-        from roughgp import sampling
-        from roughgp.models import surfaces
-        kernel = surfaces.FIGURE_2.kernel()
-        g, info = sampling.sample_grid(kernel, surfaces.FIGURE_2_SHAPE, method="circulant",
-                                       seed=seed, return_info=True)
-        rng = np.random.default_rng(seed + 1)
-        z = g[0] + rng.standard_normal(g[0].shape)          # sigma^2 = 1 (eq 8)
-        _CACHE.clear()
-        _CACHE[key] = (kernel, g[0], z, info)
-    return _CACHE[key]
-
-
 def check_figure2_simulation(full):
     """Figure 2: a 2000 x 2000 ground surface drawn from eq 18 (exactly) with its lay at
     phi = 30 deg."""
-    from roughgp.metrology import texture
-    kernel, g, z, info = _figure2()
-    std = texture.areal_parameters(z)["Std"]
-    holds = info.clipped_fraction == 0.0 and info.min_eigenvalue >= -1e-10 \
+    from roughgp.experiments import ground
+    surface = ground.figure2_surface()
+    std = float(ground.figure2_texture(surface, n_repeats=0).std[0])
+    holds = surface.clipped_fraction == 0.0 and surface.min_eigenvalue >= -1e-10 \
         and abs(std - 30.0) <= 1.0
     fig, (ax,) = row_of_axes(width=4.6, height=4.0)
-    ax.imshow(z[:400, :400], origin="lower", cmap="viridis")
+    ax.imshow(surface.surface[:400, :400], origin="lower", cmap="viridis")
     ax.set(title="figure 2: a 400 x 400 corner", xlabel="x (grid unit)", ylabel="y (grid unit)")
     ax.grid(False)
-    return Check(f"exact (torus {info.torus_shape[0]} x {info.torus_shape[1]}, nothing "
+    return Check(f"exact (torus {surface.torus_shape[0]} x {surface.torus_shape[1]}, nothing "
                  f"clipped); Std = {std:.2f} deg", bool(holds), fig)
 
 
 def check_figure2_acvf(full):
     """Sec 3.1 / conclusion: an exactly sampled surface has the predefined ACVF (eq 18),
     along and across the grooves, within 4 sd of the estimate's spread."""
-    from roughgp.metrology import spectral
-    from roughgp.models import surfaces
-    from roughgp.sampling import diagnostics
-    kernel, g, _, _ = _figure2()
-    shape = surfaces.FIGURE_2_SHAPE
-    lags, acvf_hat = spectral.empirical_acvf(g, max_lag=700, unbiased=True)
-    mean_variance = diagnostics.grid_mean_variance(kernel, shape)
-    spread = diagnostics.sample_variance_sd(kernel, shape)
-    deviation = {}
-    for name, angle, reach in (("along", surfaces.FIGURE_2.angle, 800.0),
-                               ("across", surfaces.FIGURE_2.angle + math.pi / 2, 40.0)):
-        mask, distance = spectral.near_direction(lags, angle, half_width=0.5)
-        keep = (distance >= 0) & (distance <= reach)
-        model = kernel.acvf(lags[mask][keep])
-        deviation[name] = np.abs(acvf_hat[mask][keep] - (model - mean_variance)).max() / spread
-    return Check(f"largest deviation from eq 18 (less Var(mean)): along {deviation['along']:.1f}"
-                 f" sd, across {deviation['across']:.1f} sd", max(deviation.values()) <= 4)
+    from roughgp.experiments import ground
+    result = ground.figure2_acvf_deviation(ground.figure2_surface())
+    return Check(f"largest deviation from eq 18 (less Var(mean)): along "
+                 f"{result.along.deviation:.1f} sd, across {result.across.deviation:.1f} sd",
+                 result.largest <= 4)
 
 
 PAPER_ERROR = {"lanczos": 2.763e-1, "cholesky": 2.536e-1}
