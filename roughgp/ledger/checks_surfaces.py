@@ -96,42 +96,27 @@ def check_error_comparable(full):
 
 # ------------------------------------------------------------------ figure 3
 
-def _figure3(seed=3):
-    key = ("figure3", seed)
-    if key not in _CACHE:
-        from roughgp.models import surfaces
-        z = surfaces.honed(surfaces.FIGURE_3_SHAPE, surfaces.FIGURE_3, noise_variance=1.0,
-                           seed=seed)
-        _CACHE.clear()
-        _CACHE[key] = z
-    return _CACHE[key]
-
-
 def check_crosshatch(full):
     """Figure 3: the minimum of ground surfaces at +-phi is cross-hatched: two lobes of the
     angular spectrum at +-45 deg."""
-    from roughgp.metrology import texture
-    z = _figure3()
-    angles, power = texture.angular_spectrum(z)
-    between = power[(np.abs(angles) <= 5) | (np.abs(angles) >= 85)].mean()
-    lobes = []
-    for centre in (-45, 45):
-        near = np.abs(angles - centre) <= 20
-        lobes.append((angles[near][np.argmax(power[near])], power[near].max() / between))
-    holds = all(abs(a - c) <= 3 and ratio > 10 for (a, ratio), c in zip(lobes, (-45, 45)))
+    from roughgp.experiments import honed
+    result = honed.figure3()
+    c = result.crosshatch
+    holds = all(abs(d) <= 3 for d in c.offsets) and all(r > 10 for r in c.ratios)
     fig, axes = row_of_axes(2, width=4.4, height=3.6)
-    axes[0].imshow(z, origin="lower", cmap="viridis")
+    axes[0].imshow(result.surface, origin="lower", cmap="viridis")
     axes[0].set(title="figure 3 (512 x 512)", xlabel="x", ylabel="y")
     axes[0].grid(False)
-    axes[1].semilogy(angles, power / power.max())
+    axes[1].semilogy(c.angles, c.power / c.power.max())
     axes[1].set(xlabel="lay direction (deg)", ylabel="angular power (relative)")
     return Check("lobes at " + ", ".join(f"{a:.1f} deg ({r:.0f}x the power at 0/90 deg)"
-                                         for a, r in lobes), bool(holds), fig)
+                                         for a, r in zip(c.lobe_angles, c.ratios)),
+                 bool(holds), fig)
 
 
 def check_plateau(full):
     """Figure 3 looks plateau-honed: negative skewness and Spk < Svk."""
-    from roughgp.metrology import texture
-    p = texture.areal_parameters(_figure3())
-    return Check(f"Ssk = {p['Ssk']:.2f}, Spk = {p['Spk']:.2f}, Svk = {p['Svk']:.2f}",
-                 bool(p["Ssk"] < 0 and p["Spk"] < p["Svk"]))
+    from roughgp.experiments import honed
+    p = honed.figure3().plateau
+    return Check(f"Ssk = {p.ssk:.2f}, Spk = {p.spk:.2f}, Svk = {p.svk:.2f}",
+                 bool(p.ssk < 0 and p.spk < p.svk))
