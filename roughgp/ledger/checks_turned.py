@@ -11,7 +11,7 @@ from roughgp.ledger.types import Check
 
 __all__ = ["check_periodicity", "check_multimodal", "check_dales_hills", "check_flaw", "check_flaw_cause"]
 
-_CACHE: dict = {}  # the last fits, by key: the checks of one figure share them
+_CACHE: dict = {}  # the last profile fit, by key: the checks of figure 5 share it
 
 
 # ------------------------------------------------------------------ figures 4, 5
@@ -75,83 +75,36 @@ def check_dales_hills(full):
 
 # ------------------------------------------------------------------ figures 6, 7
 
-def _turned_surface_fits(full, seed=11):
-    key = ("surface", full, seed)
-    if key not in _CACHE:
-        from roughgp.inference import fitting
-        from roughgp.metrology import levelling
-        from roughgp.models import turned
-        shape = (512, 2048)                     # the turned-surface chapter's setup
-        params = turned.TurnedParameters(tilt=(0.001, 0.002))
-        z = levelling.level(turned.turned_surface(shape, 1.0, params, seed=seed), spacing=1.0)
-        x, y = np.arange(shape[1], dtype=float), np.arange(shape[0], dtype=float)
-        across, along = z.mean(axis=0), z.mean(axis=1)
-        fit_x = fitting.fit_spectral_mixture(x, across, 10, seed=seed)
-        fit_y = fitting.fit_spectral_mixture(y, along, 10, seed=seed)
-        residual = z - across[None, :] - along[:, None] + z.mean()
-        _CACHE.clear()
-        _CACHE[key] = (z, fit_x, fit_y, float(residual.var()), params.feed, x, across)
-    return _CACHE[key]
-
-
-def _simulate_additive(z, fit_x, fit_y, noise_variance, n, seed):
-    from roughgp import sampling
-    from roughgp.gp import kernels
-    kernel = kernels.AdditiveKernel(fit_x.kernel(), fit_y.kernel())
-    latent = sampling.sample_grid(kernel, z.shape, n_samples=n, seed=seed)
-    rng = np.random.default_rng(seed + 1)
-    return latent + math.sqrt(noise_variance) * rng.standard_normal(latent.shape)
-
-
-def _paper_flaw(full):
-    """Periodicity and short-wavelength share of the data and of the simulations from the
-    paper's procedure (shared by the two figure-7 checks, drawn once)."""
-    key = ("paper flaw", full)
-    if key not in _CACHE:
-        z, fit_x, fit_y, noise, feed, _, _ = _turned_surface_fits(full)
-        sims = _simulate_additive(z, fit_x, fit_y, noise, 40 if full else 8, 12)
-        _CACHE[key] = (_flaw([z], feed), _flaw(sims, feed))
-    return _CACHE[key]
-
-
-def _flaw(surfaces, feed):
-    from roughgp.metrology import periodicity
-    per = np.array([periodicity.periodicity(s, feed, 1.0, 5) for s in surfaces])
-    short = np.array([periodicity.short_wavelength_share(s, feed / 8, 1.0) for s in surfaces])
-    return per, short
-
-
 def check_flaw(full):
     """Figure 7: the additive eq 22 (Q = 10 per direction) simulates surfaces with extra
     short wavelengths and a decreasing periodicity."""
-    ((data_per,), (data_short,)), (per, short) = _paper_flaw(full)
-    holds = per.mean(0)[-1] < data_per[-1] - 0.1 and short.mean() > 2 * data_short
+    from roughgp.experiments import turned_surface
+    r = turned_surface.turned_surface_flaw(full)
+    data_per, data_short = r.data_periodicity, r.data_short_share
+    per, short = r.paper.mean_periodicity, r.paper.mean_short_share
+    holds = per[-1] < data_per[-1] - 0.1 and short > 2 * data_short
     fig, (ax,) = row_of_axes()
-    k = np.arange(1, 6)
+    k = np.arange(1, len(data_per) + 1)
     ax.plot(k, data_per, "ko-", label="data")
-    ax.errorbar(k, per.mean(0), yerr=per.std(0, ddof=1), marker="o", capsize=3,
+    ax.errorbar(k, per, yerr=r.paper.sd_periodicity, marker="o", capsize=3,
                 label="simulations (eq 22)")
     ax.set(xlabel="lag (feeds)", ylabel="autocorrelation across the feed", xticks=k,
            title="figure 7: periodicity")
     ax.legend()
-    return Check(f"periodicity at 5 feeds: data {data_per[-1]:.2f}, simulations "
-                 f"{per.mean(0)[-1]:.2f}; short-wavelength share: data {data_short:.4f}, "
-                 f"simulations {short.mean():.4f}", bool(holds), fig)
+    return Check(f"periodicity at {len(k)} feeds: data {data_per[-1]:.2f}, simulations "
+                 f"{per[-1]:.2f}; short-wavelength share: data {data_short:.4f}, "
+                 f"simulations {short:.4f}", bool(holds), fig)
 
 
 def check_flaw_cause(full):
     """Sec 3.4: the errors are mainly due to local optima of the fit."""
-    from roughgp.inference import fitting
-    z, fit_x, fit_y, noise, feed, x, across = _turned_surface_fits(full)
-    careful = fitting.fit_spectral_mixture(x, across, 10, seed=11, n_optimise=10,
-                                           screen_iter=1000, maxiter=1000)
-    ((_,), (data_short,)), (_, short_paper) = _paper_flaw(full)
-    _, short_careful = _flaw(_simulate_additive(z, careful, fit_y, noise, 40 if full else 8,
-                                                12), feed)
-    gain = careful.log_marginal_likelihood - fit_x.log_marginal_likelihood
-    holds = gain > 10 and short_careful.mean() < short_paper.mean() \
-        and short_careful.mean() > 2 * data_short
+    from roughgp.experiments import turned_surface
+    r = turned_surface.turned_surface_flaw(full, careful=True)
+    data_short = r.data_short_share
+    short_paper, short_careful = r.paper.mean_short_share, r.careful.mean_short_share
+    gain = r.fits.careful_gain
+    holds = gain > 10 and short_careful < short_paper and short_careful > 2 * data_short
     return Check(f"a better optimum (+{gain:.0f} log ML) cuts the short-wavelength share from "
-                 f"{short_paper.mean():.4f} to {short_careful.mean():.4f}, still "
-                 f"{short_careful.mean() / data_short:.1f}x the data's {data_short:.4f}",
+                 f"{short_paper:.4f} to {short_careful:.4f}, still "
+                 f"{short_careful / data_short:.1f}x the data's {data_short:.4f}",
                  bool(holds))
