@@ -182,7 +182,8 @@ CLAIM_TABLE = [
     dict(key="future-gap-filling", where="Conclusion, ref [48]",
          statement="The model can interpolate non-measured or spurious points of optical "
                    "measurements.",
-         paper_value="", tolerance="GP error below linear interpolation's, with fitted "
+         paper_value="", tolerance="GP error below linear interpolation's (in the "
+                                   "chapter's window), with fitted "
                                    "hyperparameters within 5 % of the known ones'; +-2 sd "
                                    "covers 0.90-0.98 of the truth",
          verdict="beyond the paper",
