@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from roughgp.cli.main import main
-from roughgp.metrology import readers, x3p
+from roughgp.metrology import x3p
 from roughgp.metrology.measurement import read_measurement
 from roughgp.metrology.readers import MalformedFileError
 

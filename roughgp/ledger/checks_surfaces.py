@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from roughgp.common.plotting import row_of_axes
 from roughgp.ledger.types import Check
 
