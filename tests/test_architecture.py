@@ -130,3 +130,10 @@ def test_the_readme_layout_names_every_group():
     readme = (ROOT.parent / "README.md").read_text(encoding="utf-8")
     for group in LAYERS:
         assert f"roughgp/{group}/" in readme, f"README's layout misses roughgp/{group}/"
+
+
+def test_tests_mirror_the_packages():
+    tests = Path(__file__).resolve().parent
+    folders = {p.name for p in tests.iterdir() if p.is_dir() and not p.name.startswith(("_", "."))}
+    assert folders <= set(LAYERS), f"test folders that are no group: {folders - set(LAYERS)}"
+    assert {g for g in LAYERS if g != "common"} <= folders | {"common"}

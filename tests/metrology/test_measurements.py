@@ -16,7 +16,7 @@ from roughgp.metrology import x3p
 from roughgp.metrology.measurement import read_measurement
 from roughgp.metrology.readers import MalformedFileError
 
-DATA = Path(__file__).resolve().parents[1] / "data"
+DATA = Path(__file__).resolve().parents[2] / "data"
 
 
 def _surface_topography(name):

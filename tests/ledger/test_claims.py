@@ -11,7 +11,7 @@ import pytest
 from roughgp import ledger
 from roughgp.ledger import CLAIMS, VERDICTS, Check, Claim, Outcome, runner
 
-BOOK = Path(__file__).resolve().parents[1] / "book"
+BOOK = Path(__file__).resolve().parents[2] / "book"
 QUICK = ["eq5-duality", "fig1-acvf", "sec2.3-ma-finite", "sec2.3-arma-linear",
          "sec2.3-gp-is-arma", "sec2.3-ar-not-gp", "eq16-17-moving-average",
          "conclusion-long-correlation", "sec2.2-sampling",
