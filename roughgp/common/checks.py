@@ -75,3 +75,17 @@ def as_generator(seed) -> np.random.Generator:
         return np.random.default_rng(seed)
     raise ValueError(f"seed must be an integer >= 0, None or a numpy.random.Generator, "
                      f"got {seed!r}")
+
+
+def height_map(z, name: str = "z") -> np.ndarray:
+    """``z`` as a new float64 profile ``z[ix]`` or surface ``z[iy, ix]``: non-empty, no infinite
+    value, at least one measured point (NaN marks an unmeasured one); a ValueError otherwise."""
+    arr = np.array(z, dtype=np.float64)
+    if arr.ndim not in (1, 2) or arr.size == 0:
+        raise ValueError(f"{name} must be a non-empty profile z[ix] (1-D) or surface z[iy, ix] "
+                         f"(2-D), got shape {arr.shape}")
+    if np.any(np.isinf(arr)):
+        raise ValueError(f"{name} must not hold infinite values (NaN marks a missing point)")
+    if not np.any(np.isfinite(arr)):
+        raise ValueError(f"{name} must hold at least one measured (finite) point, got all NaN")
+    return arr

@@ -39,7 +39,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.signal import fftconvolve
 
-from roughgp.common.checks import check_positive
+from roughgp.common.checks import check_positive, height_map
 from roughgp.common.grid import normalize
 from roughgp.metrology.form import FormFit, remove_form
 from roughgp.metrology.levelling import level
@@ -60,18 +60,6 @@ PROFILE_CUTOFFS = ((80.0, 2.5, 0.02, 40.0), (250.0, 2.5, 0.1, 130.0),
 
 #: ISO 25178-3 preferred nesting indices (um), the 0.8 - 2.5 - 8 series from 0.08 um to 80 mm.
 PREFERRED_NESTING_INDICES = tuple(m * 10.0 ** k for k in range(-1, 5) for m in (0.8, 2.5, 8.0))
-
-
-def _surface(z):
-    arr = np.array(z, dtype=np.float64)
-    if arr.ndim not in (1, 2) or arr.size == 0:
-        raise ValueError(f"z must be a non-empty profile z[ix] (1-D) or surface z[iy, ix] "
-                         f"(2-D), got shape {arr.shape}")
-    if np.any(np.isinf(arr)):
-        raise ValueError("z must not hold infinite values (NaN marks a missing point)")
-    if not np.any(np.isfinite(arr)):
-        raise ValueError("z must hold at least one measured (finite) point, got all NaN")
-    return arr
 
 
 def _check_cutoff(name, cutoff, spacing):
@@ -112,7 +100,7 @@ def gaussian_filter(z, spacing, cutoff, *, edge="normalised", truncate=1.0):
     Returns:
         The long-wavelength part (a new array of the shape of ``z``), NaN where ``z`` is NaN.
     """
-    arr = _surface(z)
+    arr = height_map(z)
     _, sp = normalize(arr.shape, spacing)
     cutoff = _check_cutoff("cutoff", cutoff, sp)
     check_positive("truncate", truncate)
@@ -158,7 +146,7 @@ def s_filter(z, spacing, nesting_index, *, edge="normalised"):
 def l_filter(z, spacing, nesting_index, *, edge="normalised"):
     """ISO 25178-3 L-filter (Gaussian): ``z`` minus its long-wavelength part, i.e. the SL
     (roughness) surface for wavelengths up to ``nesting_index``."""
-    arr = _surface(z)
+    arr = height_map(z)
     return arr - gaussian_filter(arr, spacing, nesting_index, edge=edge)
 
 
@@ -188,7 +176,7 @@ def default_cutoffs(z, spacing=1.0, *, by="Ra"):
     L; for S the smallest preferred value >= 3 spacings and >= the ISO 3274 partner of L.
     An S below 2 spacings, or not below L / 3, is switched off (None).
     """
-    arr = _surface(z)
+    arr = height_map(z)
     _, sp = normalize(arr.shape, spacing)
     dmax = float(np.max(sp))
     notes = []
@@ -275,7 +263,7 @@ def surface_texture(z, spacing=1.0, *, form="plane", s="auto", l="auto", degree=
     same as S before F in the interior, without the border bias of smoothing a tilted or
     curved form. ``s`` / ``l``: a length, ``"auto"`` (:func:`default_cutoffs`) or None (off).
     """
-    arr = _surface(z)
+    arr = height_map(z)
     _, sp = normalize(arr.shape, spacing)
     auto = default_cutoffs(arr, sp) if "auto" in (s, l) else None
     s_cut = auto.s if isinstance(s, str) and s == "auto" else s

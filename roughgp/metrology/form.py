@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import least_squares
 
-from roughgp.common.checks import check_integer
+from roughgp.common.checks import check_integer, height_map
 from roughgp.common.grid import normalize
 from roughgp.metrology.levelling import level
 
@@ -57,18 +57,6 @@ class FormFit:
     label: str = ""
 
 
-def _as_height_array(z):
-    arr = np.array(z, dtype=np.float64)
-    if arr.ndim not in (1, 2) or arr.size == 0:
-        raise ValueError(f"z must be a non-empty profile z[ix] (1-D) or surface z[iy, ix] "
-                         f"(2-D), got shape {arr.shape}")
-    if np.any(np.isinf(arr)):
-        raise ValueError("z must not hold infinite values (NaN marks a missing point)")
-    if not np.any(np.isfinite(arr)):
-        raise ValueError("z must hold at least one measured (finite) point, got all NaN")
-    return arr
-
-
 def _rms(residual):
     return float(np.sqrt(np.nanmean(residual ** 2)))
 
@@ -79,7 +67,7 @@ def remove_plane(z, spacing=1.0):
     Returns ``(residual, FormFit)``; the fit is :func:`~roughgp.metrology.levelling.level`'s.
     Raises ValueError for bad ``z`` (all NaN, too few points) or ``spacing``.
     """
-    arr = _as_height_array(z)
+    arr = height_map(z)
     residual, fit = level(arr, spacing=spacing, order=1, return_coefficients=True)
     params = {"offset": fit.offset, "slope_x": fit.slope[-1]}
     if arr.ndim == 2:
@@ -103,7 +91,7 @@ def remove_polynomial(z, spacing=1.0, degree=2):
     FormFit)``. Raises ValueError for bad ``z``, ``spacing``, ``degree``, or fewer measured
     points than coefficients.
     """
-    arr = _as_height_array(z)
+    arr = height_map(z)
     degree = check_integer("degree", degree, 0)
     _, sp = normalize(arr.shape, spacing)
     axes = [np.arange(n) * d for n, d in zip(arr.shape, sp)]
@@ -215,7 +203,7 @@ def remove_cylinder(z, spacing=1.0, axis="auto"):
     ``(residual, FormFit)``. Raises ValueError for bad ``z``, ``spacing``, ``axis``, fewer
     than 6 measured points, or a flat quadratic (no curvature to fit).
     """
-    arr = _as_height_array(z)
+    arr = height_map(z)
     _, sp = normalize(arr.shape, spacing)
     if axis not in ("x", "y", "auto"):
         raise ValueError(f"axis must be 'x', 'y' or 'auto', got {axis!r}")
@@ -258,7 +246,7 @@ def remove_form(z, spacing=1.0, form="plane", *, degree=2, axis="auto"):
     """Dispatch: ``form`` in {"plane", "polynomial", "cylinder", None} (None: nothing
     removed, ``FormFit("none")``). Returns ``(residual, FormFit)``."""
     if form is None:
-        arr = _as_height_array(z)
+        arr = height_map(z)
         return arr, FormFit("none", {}, _rms(arr), "F: none")
     if form == "plane":
         return remove_plane(z, spacing)
