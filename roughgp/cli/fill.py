@@ -37,17 +37,11 @@ example:
 
 
 
-def add_parser(sub, formatter, input_epilog) -> None:
+def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     """Add ``fill`` to the sub-command parsers ``sub``."""
     f = sub.add_parser("fill", formatter_class=formatter, description=_FILL, epilog=input_epilog,
                        help="fill the missing (NaN) points of a surface with the GP")
-    f.add_argument("file", metavar="FILE", help="the surface, heights in um, NaN where missing")
-    f.add_argument("--spacing", type=float, metavar="D",
-                   help="the grid spacing in um, overriding the file's")
-    f.add_argument("--channel", type=int, default=0, metavar="K",
-                   help="the data channel of an instrument file with several (default 0)")
-    f.add_argument("--unit", choices=("m", "mm", "um", "nm"), metavar="U",
-                   help="the length unit of an instrument file that states none")
+    add_input_options(f, kind=False, what="the surface, heights in um, NaN where missing")
     f.add_argument("--out", required=True, metavar="FILE",
                    help="the filled surface: " + ", ".join(WRITE_FORMATS))
     f.add_argument("--sd", metavar="FILE", help="also write the posterior sd map")

@@ -52,14 +52,17 @@ class formatter(argparse.RawDescriptionHelpFormatter):
         self._action_max_length = 16  # so "reproduce" keeps its help on its line
 
 
-def add_input_options(parser) -> None:
-    parser.add_argument("file", metavar="FILE",
-                        help="the profile or surface, heights in um (formats: see below)")
+def add_input_options(parser, *, kind=True,
+                      what="the profile or surface, heights in um (formats: see below)") -> None:
+    """The input options that fit, texture and fill share: FILE, --spacing, --kind (unless
+    ``kind`` is False: fill reads surfaces only), --channel and --unit."""
+    parser.add_argument("file", metavar="FILE", help=what)
     parser.add_argument("--spacing", type=float, metavar="D",
                         help="the grid spacing in um, overriding the file's (default: from the "
                              "file; 1 um when it has none, e.g. .npy)")
-    parser.add_argument("--kind", choices=("auto", "profile", "surface"), default="auto",
-                        help="read a text table as a profile or a surface (default: auto)")
+    if kind:
+        parser.add_argument("--kind", choices=("auto", "profile", "surface"), default="auto",
+                            help="read a text table as a profile or a surface (default: auto)")
     parser.add_argument("--channel", type=int, default=0, metavar="K",
                         help="the data channel of an instrument file with several (default 0)")
     parser.add_argument("--unit", choices=("m", "mm", "um", "nm"), metavar="U",
@@ -81,5 +84,5 @@ def build_parser() -> argparse.ArgumentParser:
     simulate.add_parser(sub, formatter)
     fit.add_parser(sub, formatter, _INPUT, add_input_options)
     texture.add_parser(sub, formatter, _INPUT, add_input_options)
-    fill.add_parser(sub, formatter, _INPUT)
+    fill.add_parser(sub, formatter, _INPUT, add_input_options)
     return parser
