@@ -24,7 +24,9 @@ Method
   (the Jacobi preconditioner of a stationary kernel is a constant, hence useless).
 * **Standard deviation** by pathwise conditioning (Matheron's rule): for each of
   ``n_samples`` seeded prior draws ``f`` (exact circulant sampler of
-  :func:`roughgp.sampling.sample_grid`) and noise ``e`` on the observed points,
+  :func:`roughgp.sampling.sample_grid`; where the kernel's exact torus is too large, the
+  clipped embedding of a smaller one, its lost variance reported as
+  ``prior_clipped_fraction``) and noise ``e`` on the observed points,
   :math:`d = f - K P^\top (P K P^\top + \sigma^2 I)^{-1}(P f + e)` is a draw of the posterior
   error ``g - E[g | y]``, so ``sd = sqrt(mean(d**2))`` over the draws (``n_samples`` degrees
   of freedom: its relative sampling error is about ``1 / sqrt(2 n_samples)``). The draws'
@@ -40,6 +42,7 @@ The ``sd`` is that of the latent surface ``g``; the spread of a new *measurement
 from __future__ import annotations
 
 import time
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -48,7 +51,7 @@ import scipy.fft
 from roughgp.common.checks import as_generator, check_integer, check_nonnegative, check_positive
 from roughgp.common.device import resolve as resolve_device
 from roughgp.common.grid import normalize
-from roughgp.sampling.circulant import wrapped_lags
+from roughgp.sampling.circulant import NotEmbeddableError, wrapped_lags
 from roughgp.sampling.grid_sampler import acvf_of, sample_grid
 
 __all__ = ["GapFill", "ToeplitzOperator", "fill_gaps", "conjugate_gradients"]
@@ -71,6 +74,9 @@ class GapFill:
         sample_iterations: CG iterations of the slowest draw's solve (0 without draws).
         converged: every solve reached its tolerance (``tol``, ``sample_tol``).
         seconds: wall time of the call.
+        prior_clipped_fraction: 0 when the prior draws are exact; else the share of the
+            prior variance lost by the clipped circulant embedding they were drawn from (the
+            exact torus of the kernel was too large), so ``sd`` is that much too small.
     """
 
     mean: np.ndarray
@@ -81,6 +87,7 @@ class GapFill:
     sample_iterations: int
     converged: bool
     seconds: float
+    prior_clipped_fraction: float = 0.0
 
 
 class ToeplitzOperator:
@@ -222,6 +229,22 @@ def _missing_map(z, mask):
     return z, missing
 
 
+def _prior_draws(kernel, shape, spacing, n_samples, rng, device):
+    """The pathwise prior draws: exact circulant embedding, or, when the kernel's exact torus
+    is too large, the clipped embedding of a smaller one (its lost share of the variance is
+    returned, not hidden)."""
+    try:
+        return sample_grid(kernel, shape, spacing=spacing, n_samples=n_samples,
+                           method="circulant", seed=rng, device=device), 0.0
+    except NotEmbeddableError:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)  # the share is returned instead
+            draws, info = sample_grid(kernel, shape, spacing=spacing, n_samples=n_samples,
+                                      method="circulant", seed=rng, device=device,
+                                      approximate=True, return_info=True)
+        return draws, float(info.clipped_fraction)
+
+
 def fill_gaps(z, kernel, *, noise_variance, spacing=1.0, mask=None, n_samples=16, seed=None,
               tol=1e-6, sample_tol=1e-3, max_iter=1000,
               preconditioner="circulant", sample_dtype=np.float32, device=None) -> GapFill:
@@ -282,10 +305,9 @@ def fill_gaps(z, kernel, *, noise_variance, spacing=1.0, mask=None, n_samples=16
 
     offset = float(np.mean(z[observed]))
     data = np.where(observed, z - offset, 0.0)[None]
-    prior = None
+    prior, clipped = None, 0.0
     if n_samples:
-        prior = sample_grid(kernel, shape, spacing=spacing, n_samples=n_samples,
-                            method="circulant", seed=rng, device=device)
+        prior, clipped = _prior_draws(kernel, shape, spacing, n_samples, rng, device)
         noise = np.sqrt(noise_variance) * rng.standard_normal((n_samples, *shape))
         draws = (-(prior + noise) * weight).astype(sample_dtype)
     if device is not None:
@@ -330,4 +352,4 @@ def fill_gaps(z, kernel, *, noise_variance, spacing=1.0, mask=None, n_samples=16
     filled = np.where(missing, mean, z)
     return GapFill(mean=mean, sd=sd, missing=missing, filled=filled, iterations=int(iterations[0]),
                    sample_iterations=sample_iterations, converged=bool(np.all(done)),
-                   seconds=time.perf_counter() - start)
+                   seconds=time.perf_counter() - start, prior_clipped_fraction=clipped)

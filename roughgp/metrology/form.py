@@ -31,7 +31,8 @@ from roughgp.common.checks import check_integer, height_map
 from roughgp.common.grid import normalize
 from roughgp.metrology.levelling import level
 
-__all__ = ["FormFit", "remove_plane", "remove_polynomial", "remove_cylinder", "remove_form"]
+__all__ = ["FormFit", "remove_plane", "remove_polynomial", "remove_cylinder", "remove_form",
+           "form_heights"]
 
 
 @dataclass(frozen=True)
@@ -255,3 +256,40 @@ def remove_form(z, spacing=1.0, form="plane", *, degree=2, axis="auto"):
     if form == "cylinder":
         return remove_cylinder(z, spacing, axis)
     raise ValueError(f"form must be 'plane', 'polynomial', 'cylinder' or None, got {form!r}")
+
+
+def form_heights(fit: FormFit, shape, spacing=1.0) -> np.ndarray:
+    """The form that ``fit`` removed, evaluated on the whole grid of ``shape`` (missing points
+    included): what to add back to a form-removed surface after filling its holes.
+
+    ``fit`` comes from one of this module's operators applied to a grid of this ``shape`` and
+    ``spacing`` (its parameters refer to that grid's coordinates and centre).
+    """
+    shape, sp = normalize(shape, spacing)
+    axes = [np.arange(n) * d for n, d in zip(shape, sp)]
+    grids = np.meshgrid(*axes, indexing="ij")
+    x = grids[-1]
+    y = grids[0] if len(shape) == 2 else np.zeros_like(x)
+    p = fit.parameters
+    if fit.method == "none":
+        return np.zeros(shape)
+    if fit.method == "plane":
+        return p["offset"] + p["slope_x"] * x + p.get("slope_y", 0.0) * y
+    if fit.method == "polynomial":
+        u, v = x - p["xc"], y - p.get("yc", 0.0)
+        out = np.zeros(shape)
+        for i, j in _terms(len(shape), int(p["degree"])):
+            out += p[f"c[{i},{j}]"] * u ** i * v ** j
+        return out
+    if fit.method == "cylinder":
+        convex = bool(p["convex"])
+        if len(shape) == 1:
+            q = (p["axis_x0"] - x.mean(), p["axis_z0"], 0.0, 0.0, p["radius"])
+            return _cylinder_heights(q, np.zeros_like(x), x - x.mean(), convex)
+        along_y = p["axis"] == 1.0
+        s_coord, t_coord = (y - y.mean(), x - x.mean()) if along_y else (x - x.mean(),
+                                                                         y - y.mean())
+        t0 = p["axis_x0"] - x.mean() if along_y else p["axis_y0"] - y.mean()
+        q = (t0, p["axis_z0"], p["skew"], p["tilt"], p["radius"])
+        return _cylinder_heights(q, s_coord, t_coord, convex)
+    raise ValueError(f"unknown form method {fit.method!r}")

@@ -18,7 +18,7 @@ import numpy as np
 from roughgp.metrology import texture
 from roughgp.metrology.filters import Texture, surface_texture
 
-__all__ = ["TextureReport", "filtered_parameters", "UNITS", "unit_of"]
+__all__ = ["TextureReport", "filtered_parameters", "point_statistics", "UNITS", "unit_of"]
 
 #: Units of the parameters that are not heights or lengths in µm.
 UNITS = {"Ssk": "", "Sku": "", "Rsk": "", "Rku": "", "Str": "", "Std": "deg",
@@ -56,7 +56,7 @@ class TextureReport:
     heights: np.ndarray
 
 
-def _point_statistics(h, areal):
+def point_statistics(h, areal):
     """Height and material-ratio parameters of the measured points of ``h`` alone."""
     values = h[np.isfinite(h)]
     out = texture.height_parameters(values, undefined="nan")
@@ -100,7 +100,7 @@ def filtered_parameters(z, spacing=1.0, *, form="plane", s="auto", l="auto", deg
                   else texture.profile_parameters(heights, spacing=float(np.ravel(spacing)[-1]),
                                                   undefined="nan"))
     else:
-        params = _point_statistics(heights, areal)
+        params = point_statistics(heights, areal)
         grid_only = ("Sal", "Str", "Std") if areal else ("RSm",)
         params.update(dict.fromkeys(grid_only, float("nan")))
         notes.append(f"{missing} of {heights.size} points unmeasured ({missing / heights.size:.1%}):"

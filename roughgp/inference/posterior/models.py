@@ -167,19 +167,39 @@ def order_lengthscales(samples: Mapping, period: float = math.pi) -> dict:
     return out
 
 
-def maximum_a_posteriori(model: "PosteriorModel", initial: Mapping, *, maxiter=5000) -> dict:
-    """The posterior mode of ``model`` near ``initial`` (natural units), by Nelder-Mead in
-    the unconstrained u: the optimum around which :func:`sample_posterior` starts its
-    walkers (section 2.2's "optimized by maximizing", with the priors included).
+OPTIMISERS = ("Nelder-Mead", "L-BFGS-B")
+
+
+def maximum_a_posteriori(model: "PosteriorModel", initial: Mapping, *, maxiter=5000,
+                         method="Nelder-Mead") -> dict:
+    """The posterior mode of ``model`` near ``initial`` (natural units), in the unconstrained
+    u: the optimum around which :func:`sample_posterior` starts its walkers (section 2.2's
+    "optimized by maximizing", with the priors included).
+
+    Args:
+        method: ``"Nelder-Mead"`` (default; no gradient) or ``"L-BFGS-B"`` (finite-difference
+            gradients: far fewer evaluations for a smooth log posterior of a few parameters;
+            on the eq 18 block likelihood about a quarter of Nelder-Mead's, same optimum).
 
     Returns:
         dict name -> value (natural units).
     """
     from scipy import optimize
 
+    if method not in OPTIMISERS:
+        raise ValueError(f"method must be one of {OPTIMISERS}, got {method!r}")
     u0 = model.to_unconstrained(initial)
     if not math.isfinite(model.log_posterior(u0)):
         raise ValueError(f"initial has zero posterior density: {dict(initial)!r}")
-    result = optimize.minimize(lambda u: -model.log_posterior(u), u0, method="Nelder-Mead",
-                               options={"maxiter": int(maxiter), "xatol": 1e-6, "fatol": 1e-8})
+    if method == "Nelder-Mead":
+        result = optimize.minimize(lambda u: -model.log_posterior(u), u0, method="Nelder-Mead",
+                                   options={"maxiter": int(maxiter), "xatol": 1e-6,
+                                            "fatol": 1e-8})
+    else:
+        def objective(u):  # a zero density (outside a prior's support) as a large finite value
+            value = -model.log_posterior(u)
+            return value if math.isfinite(value) else 1e300
+
+        result = optimize.minimize(objective, u0, method="L-BFGS-B",
+                                   options={"maxiter": int(maxiter)})
     return model.to_natural(result.x)

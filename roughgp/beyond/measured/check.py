@@ -1,0 +1,222 @@
+r"""Does a fitted model reproduce the measurement? Texture parameters of simulations against
+the measurement's (beyond the paper).
+
+:func:`check_model` applies the model's operators (F, S, L; a simulation's F-operator is the
+plane, it has no form) to the measurement and to ``n_simulations`` seeded draws of the model on
+the measurement's grid, computes the ISO 25178-2 (surface) or ISO 4287 / 13565-2 (profile)
+parameters of each, and places the measurement in the simulated spread: its rank among the
+simulations, and whether it lies outside their range. With ``n`` simulations a measurement
+that the model describes falls outside their range with probability ``2 / (n + 1)`` (a
+two-sided rank test: 10 % for the default 19), so a parameter outside the range is evidence
+against the model, one inside is no proof for it.
+
+A measurement with holes: its height and material-ratio parameters are those of its measured
+points, and the simulations are given the same holes; the spatial parameters (Sal, Str, Std)
+need a complete grid, so the measurement's are those of its fill by the model's own posterior
+mean (:func:`roughgp.beyond.measured.fill.fill_measured_surface`; stated in ``notes``).
+``Std`` is an angle modulo 180 degrees: the simulations' values are unwrapped to within 90
+degrees of the measurement's before they are compared.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from roughgp.beyond.measured.fill import fill_measured_surface
+from roughgp.beyond.measured.fit import apply_operators
+from roughgp.beyond.measured.model import FittedModel
+from roughgp.common.checks import as_generator
+from roughgp.metrology.texture import areal_parameters, profile_parameters
+from roughgp.metrology.texture_report import unit_of
+
+__all__ = ["ModelCheck", "ParameterCheck", "check_model", "plot_model_check",
+           "SURFACE_PARAMETERS", "PROFILE_PARAMETERS"]
+
+SURFACE_PARAMETERS = ("Sq", "Sa", "Ssk", "Sku", "Sp", "Sv", "Sz", "Sk", "Spk", "Svk", "Sal",
+                      "Str", "Std")
+PROFILE_PARAMETERS = ("Rq", "Ra", "Rsk", "Rku", "Rp", "Rv", "Rt", "Rk", "Rpk", "Rvk", "RSm")
+_SPATIAL = ("Sal", "Str", "Std", "RSm")
+
+
+@dataclasses.dataclass(frozen=True)
+class ParameterCheck:
+    """One parameter: the measurement's value, the simulations' values, the verdict.
+
+    Attributes:
+        rank: simulations below the measured value (0 .. n); NaN values left out.
+        outside: the measured value lies below every or above every simulated value.
+    """
+
+    name: str
+    unit: str
+    measured: float
+    simulated: np.ndarray
+    rank: int
+    outside: bool
+
+    @property
+    def low(self) -> float:
+        return float(np.nanmin(self.simulated)) if np.isfinite(self.simulated).any() else np.nan
+
+    @property
+    def high(self) -> float:
+        return float(np.nanmax(self.simulated)) if np.isfinite(self.simulated).any() else np.nan
+
+    @property
+    def median(self) -> float:
+        return float(np.nanmedian(self.simulated)) if np.isfinite(self.simulated).any() \
+            else np.nan
+
+
+@dataclasses.dataclass(frozen=True)
+class ModelCheck:
+    """What :func:`check_model` returns: one :class:`ParameterCheck` per parameter, the
+    operators applied, notes, and the heights compared (measurement and first simulation)."""
+
+    parameters: tuple
+    n_simulations: int
+    operators: tuple
+    notes: tuple
+    measured_heights: np.ndarray
+    simulated_heights: np.ndarray
+
+    @property
+    def outside(self) -> list:
+        """Names of the parameters whose measured value lies outside the simulated range."""
+        return [p.name for p in self.parameters if p.outside]
+
+    def to_dict(self) -> dict:
+        return {"n_simulations": self.n_simulations, "operators": list(self.operators),
+                "notes": list(self.notes), "outside": self.outside,
+                "parameters": [{"name": p.name, "unit": p.unit, "measured": p.measured,
+                                "simulated_min": p.low, "simulated_median": p.median,
+                                "simulated_max": p.high, "rank": p.rank,
+                                "outside": p.outside} for p in self.parameters]}
+
+
+def _parameters(h, spacing, names, areal):
+    if areal:
+        values = areal_parameters(h, spacing=spacing, undefined="nan")
+    else:
+        values = profile_parameters(h, spacing=float(np.ravel(spacing)[-1]), undefined="nan")
+    return {n: float(values.get(n, np.nan)) for n in names}
+
+
+def _point_parameters(h, names, areal):
+    """Height and material-ratio parameters of the finite points only (holes left out)."""
+    from roughgp.metrology.texture_report import point_statistics
+    values = point_statistics(h, areal)
+    return {n: float(values[n]) for n in names if n in values}
+
+
+def _unwrap(angles, reference):
+    return reference + (np.asarray(angles) - reference + 90.0) % 180.0 - 90.0
+
+
+def check_model(model: FittedModel, z, spacing=None, *, n_simulations=19, seed=0,
+                names=None) -> ModelCheck:
+    """Place the texture parameters of the measurement ``z`` among those of ``n_simulations``
+    draws of ``model`` (module docstring).
+
+    Args:
+        model: a :class:`~roughgp.beyond.measured.model.FittedModel`.
+        z: the measurement (``z[iy, ix]`` for a surface model, ``z[ix]`` for a profile model),
+            um, NaN where unmeasured; the raw heights (the model's operators are applied here).
+        spacing: of ``z`` (default: the model's).
+        n_simulations: draws (>= 2; the default 19 makes "outside the range" a 10 % test).
+        seed: of the draws; the same seed gives the same table.
+        names: the parameters (default :data:`SURFACE_PARAMETERS` / :data:`PROFILE_PARAMETERS`).
+    """
+    z = np.asarray(z, dtype=np.float64)
+    areal = model.kind == "surface"
+    if z.ndim != (2 if areal else 1):
+        raise ValueError(f"a {model.kind} model is checked against a "
+                         f"{'surface z[iy, ix]' if areal else 'profile z[ix]'}, got shape "
+                         f"{z.shape}")
+    if not isinstance(n_simulations, (int, np.integer)) or not 2 <= n_simulations <= 999:
+        raise ValueError(f"n_simulations must be an integer in [2, 999], got {n_simulations!r}")
+    spacing = model.spacing if spacing is None else spacing
+    names = tuple(names or (SURFACE_PARAMETERS if areal else PROFILE_PARAMETERS))
+    rng = as_generator(seed)
+    notes = []
+    measured_chain = apply_operators(z, spacing, model.cutoffs)
+    heights = measured_chain.sl
+    holes = ~np.isfinite(heights)
+    measured = _parameters(heights, spacing, names, areal) if not holes.any() else None
+    if measured is None:
+        measured = _point_parameters(heights, names, areal)
+        spatial = [n for n in names if n in _SPATIAL]
+        if spatial and areal:
+            filled = fill_measured_surface(z, spacing=spacing, n_samples=0, model=model,
+                                           form=model.cutoffs.get("form", "plane"),
+                                           degree=int(model.cutoffs.get("degree", 2)),
+                                           axis=model.cutoffs.get("axis", "auto")).filled
+            full = _parameters(apply_operators(filled, spacing, model.cutoffs).sl, spacing,
+                               spatial, areal)
+            measured.update(full)
+            notes.append(f"{holes.mean():.1%} of the points unmeasured: the height parameters "
+                         f"are of the measured points (the simulations get the same holes); "
+                         f"{', '.join(spatial)} of the measurement filled by the model's "
+                         f"posterior mean")
+        for n in names:
+            measured.setdefault(n, np.nan)
+    simulated = {n: [] for n in names}
+    first = None
+    for _ in range(n_simulations):
+        draw = model.simulate(z.shape, seed=rng, spacing=spacing)
+        h = apply_operators(draw, spacing, model.cutoffs, simulated=True).sl
+        values = _parameters(h, spacing, names, areal)
+        if holes.any():
+            values.update(_point_parameters(np.where(holes, np.nan, h), names, areal))
+        first = h if first is None else first
+        for n in names:
+            simulated[n].append(values[n])
+    checks = []
+    for n in names:
+        sims = np.asarray(simulated[n], dtype=np.float64)
+        value = measured[n]
+        if n == "Std" and np.isfinite(value):
+            sims = _unwrap(sims, value)
+        finite = sims[np.isfinite(sims)]
+        rank = int(np.sum(finite < value))
+        outside = bool(np.isfinite(value) and finite.size > 0
+                       and (value < finite.min() or value > finite.max()))
+        checks.append(ParameterCheck(n, unit_of(n), float(value), sims, rank, outside))
+    return ModelCheck(tuple(checks), int(n_simulations), tuple(measured_chain.operators),
+                      tuple(notes), heights, first)
+
+
+def plot_model_check(check: ModelCheck, path=None, *, title=None):
+    """One small panel per parameter: the simulated values (dots) and the measured value
+    (a line; red when outside the simulated range). Returns the figure; saves it to ``path``
+    when given."""
+    import matplotlib.pyplot as plt
+
+    from roughgp.common.plotting import use_style
+
+    use_style()
+    n = len(check.parameters)
+    cols = min(n, 5)
+    rows = -(-n // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(2.3 * cols, 1.9 * rows), squeeze=False)
+    jitter = np.random.default_rng(0).uniform(-0.25, 0.25, check.n_simulations)
+    for ax, p in zip(axes.flat, check.parameters):
+        ax.plot(jitter, p.simulated, "o", ms=3, color="0.45", label="simulations")
+        colour = "tab:red" if p.outside else "tab:blue"
+        ax.axhline(p.measured, color=colour, lw=2, label="measurement")
+        ax.set_title(f"{p.name}" + (f" ({p.unit})" if p.unit else "")
+                     + (" outside" if p.outside else ""), fontsize=9,
+                     color=colour if p.outside else "black")
+        ax.set_xlim(-1, 1)
+        ax.set_xticks([])
+        ax.tick_params(labelsize=7)
+    for ax in list(axes.flat)[n:]:
+        ax.set_visible(False)
+    fig.suptitle(title or f"the measurement (line) among {check.n_simulations} simulations "
+                 f"of the model (dots)", fontsize=10)
+    fig.tight_layout()
+    if path is not None:
+        fig.savefig(path, dpi=120)
+    return fig

@@ -1,0 +1,105 @@
+"""A measured surface with unmeasured (NaN) points, filled end to end (beyond the paper).
+
+The pipeline of ``roughgp fill``, as one call: remove the form (the F-operator,
+:func:`roughgp.metrology.form.remove_form`: a least-squares plane by default, a cylinder for a
+curved part), fit eq 18 plus white noise (eq 8) on the measured points alone
+(:func:`roughgp.inference.block_fit.fit_ground_to_valid_points`) or take the hyperparameters of
+a fitted model (:class:`~roughgp.beyond.measured.model.FittedModel`), fill the missing points
+with the GP posterior mean (and sd) of the form-removed surface
+(:func:`roughgp.beyond.gap_filling.fill_gaps`), and add the form back, so that the filled map is
+in the measurement's own heights. The fill works on the form-removed heights only: a model
+fitted after S- or L-filters describes filtered heights, so its filters are not applied here
+(the fill is of the measurement, not of its roughness).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from roughgp.beyond.gap_filling import GapFill, fill_gaps
+from roughgp.beyond.measured.model import FittedModel
+from roughgp.common.grid import normalize
+from roughgp.inference.block_fit import BlockFit, fit_ground_to_valid_points
+from roughgp.metrology.form import FormFit, form_heights, remove_form
+
+__all__ = ["MeasuredFill", "fill_measured_surface"]
+
+
+@dataclasses.dataclass
+class MeasuredFill:
+    """What :func:`fill_measured_surface` returns.
+
+    Attributes:
+        filled: the measured heights, with the missing ones filled by the posterior mean plus
+            the removed form (the measurement's own heights).
+        sd: posterior sd of the latent surface at the filled points, 0 at measured ones
+            (and everywhere without draws).
+        missing: boolean map of the filled points.
+        form: the F-operator's fit removed before the fill and added back.
+        fit: the eq 18 fit on the measured points (None when a model was given).
+        kernel, noise_variance: what the fill used.
+        gaps: the fill of the form-removed surface (:class:`~roughgp.beyond.gap_filling.GapFill`).
+    """
+
+    filled: np.ndarray
+    sd: np.ndarray
+    missing: np.ndarray
+    form: FormFit
+    fit: BlockFit | None
+    kernel: object
+    noise_variance: float
+    gaps: GapFill
+
+
+def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, n_blocks=12,
+                          form="plane", degree=2, axis="auto", model=None,
+                          mask=None, device=None) -> MeasuredFill:
+    """Remove the form, fit eq 18 on the measured points (or use ``model``), fill the NaN
+    (and ``mask``-ed) points, add the form back.
+
+    Args:
+        z: height map ``z[iy, ix]`` with NaN where not measured.
+        spacing: scalar or ``(dy, dx)``.
+        n_samples: pathwise draws for the sd (0: the mean only, far quicker).
+        seed: int or None: the fit's blocks and the draws.
+        block, n_blocks: the fit's blocks (:func:`~roughgp.inference.block_fit.fit_ground_to_valid_points`).
+        form, degree, axis: the F-operator (:func:`~roughgp.metrology.form.remove_form`).
+        model: a :class:`~roughgp.beyond.measured.model.FittedModel` of eq 18 whose kernel and
+            noise are used instead of a fit.
+        mask: optional boolean map: measured points to treat as missing as well (e.g. to hide
+            them for a cross-validation).
+        device: None (numpy) or a torch device for the fill (:mod:`roughgp.common.device`).
+    """
+    z = np.asarray(z, dtype=np.float64)
+    if z.ndim != 2:
+        raise ValueError(f"z must be a surface z[iy, ix], got shape {z.shape}")
+    missing = np.isnan(z)
+    if mask is not None:
+        mask = np.asarray(mask)
+        if mask.dtype != bool or mask.shape != z.shape:
+            raise ValueError(f"mask must be a boolean array of the shape of z {z.shape}, got "
+                             f"{mask.dtype} of shape {mask.shape}")
+        missing = missing | mask
+    if not missing.any():
+        raise ValueError("z has no missing (NaN) point: nothing to fill")
+    if model is not None and (not isinstance(model, FittedModel) or model.equation != "eq18"):
+        raise ValueError("model must be a FittedModel of eq 18 (a surface model)")
+    _, (dy, dx) = normalize(z.shape, spacing)
+    residual, form_fit = remove_form(np.where(missing, np.nan, z), (dy, dx), form,
+                                     degree=degree, axis=axis)
+    fit = None
+    if model is None:
+        fit = fit_ground_to_valid_points(residual, spacing=(dy, dx), block=block,
+                                         n_blocks=n_blocks, seed=seed)
+        kernel, noise_variance = fit.kernel, fit.noise_variance
+    else:
+        kernel, noise_variance = model.kernel(), model.noise_variance
+    gaps = fill_gaps(residual, kernel, noise_variance=noise_variance, spacing=(dy, dx),
+                     n_samples=n_samples, seed=seed, device=device)
+    form_part = form_heights(form_fit, z.shape, (dy, dx))
+    filled = np.where(missing, gaps.mean + form_part, z)
+    sd = np.where(missing, gaps.sd, 0.0)
+    return MeasuredFill(filled=filled, sd=sd, missing=missing, form=form_fit, fit=fit,
+                        kernel=kernel, noise_variance=float(noise_variance), gaps=gaps)

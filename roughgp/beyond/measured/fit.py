@@ -1,0 +1,166 @@
+r"""Fit a model to a measured surface or profile and keep it as a :class:`FittedModel`.
+
+* :func:`fit_surface_model`: the F-operator (and, when asked, S- and L-filters,
+  :func:`roughgp.metrology.filters.surface_texture`) on the measured heights, then eq 18 plus
+  white noise (eq 8) on the measured points alone by block composite likelihood
+  (:func:`roughgp.inference.block_fit.fit_ground_to_valid_points`): holes are allowed.
+* :func:`fit_profile_model`: the F-operator (a line) and optional filters on a profile, then
+  the spectral mixture of eq 21 by the procedure of section 3.3
+  (:func:`roughgp.inference.fitting.fit_spectral_mixture`).
+
+By default no S- or L-filter is applied: the model's white noise (eq 8) stands for the
+instrument's small-scale noise, which an S-filter would smooth into a correlated signal, and an
+L-filter cuts the long correlations that eq 18's :math:`\lambda_a` is to measure. With
+``non_gaussian=True`` the measured skewness and kurtosis of the fitted heights are kept in the
+model, and its simulations reproduce them (:mod:`roughgp.beyond.measured.model`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+import warnings
+
+import numpy as np
+
+from roughgp.beyond.measured.model import FittedModel
+from roughgp.common.grid import normalize
+from roughgp.inference.block_fit import BlockFit, fit_ground_to_valid_points
+from roughgp.inference.fitting import MIN_POINTS, SpectralMixtureFit, fit_spectral_mixture
+from roughgp.metrology.filters import Texture, surface_texture
+
+__all__ = ["SurfaceModelFit", "ProfileModelFit", "fit_surface_model", "fit_profile_model",
+           "apply_operators"]
+
+
+@dataclasses.dataclass(frozen=True)
+class SurfaceModelFit:
+    """What :func:`fit_surface_model` returns: the model, the filtered heights it was fitted
+    to (``texture.sl``, NaN kept) and the block fit."""
+
+    model: FittedModel
+    texture: Texture
+    block_fit: BlockFit
+
+
+@dataclasses.dataclass(frozen=True)
+class ProfileModelFit:
+    """What :func:`fit_profile_model` returns: the model, the filtered profile and the fit."""
+
+    model: FittedModel
+    texture: Texture
+    mixture: SpectralMixtureFit
+
+
+def apply_operators(z, spacing, cutoffs, *, simulated=False) -> Texture:
+    """The model's operators (``model.cutoffs``) applied to heights ``z``. ``simulated``: the
+    heights are a simulation of the model, which has no form: its F-operator is then the plane
+    (or line) alone, so that a cylinder or polynomial is not fitted to a flat surface."""
+    form = cutoffs.get("form", "plane")
+    if simulated and form is not None:
+        form = "plane"
+    return surface_texture(z, spacing, form=form, s=cutoffs.get("s_um"), l=cutoffs.get("l_um"),
+                           degree=int(cutoffs.get("degree", 2)),
+                           axis=cutoffs.get("axis", "auto"))
+
+
+def _marginal(heights, non_gaussian):
+    if not non_gaussian:
+        return None
+    h = heights[np.isfinite(heights)]
+    h = h - h.mean()
+    sd = float(np.sqrt(np.mean(h * h)))
+    skewness = float(np.mean(h ** 3) / sd ** 3)
+    kurtosis = float(np.mean(h ** 4) / sd ** 4)
+    return {"skewness": skewness, "kurtosis": max(kurtosis, skewness ** 2 + 1.01)}
+
+
+def _cutoffs(form, s, l, degree, axis):
+    return {"form": form, "s_um": s, "l_um": l, "degree": degree, "axis": axis}
+
+
+def fit_surface_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, axis="auto",
+                      block=24, n_blocks=12, seed=0, non_gaussian=False,
+                      data=None) -> SurfaceModelFit:
+    """Fit eq 18 plus noise to a measured surface ``z[iy, ix]`` (um, NaN where unmeasured).
+
+    Args:
+        spacing: scalar or ``(dy, dx)``, um.
+        form, degree, axis: the F-operator (``"plane"``, ``"polynomial"``, ``"cylinder"`` or
+            None; :func:`roughgp.metrology.form.remove_form`).
+        s, l: S- and L-filter nesting indices in um, ``"auto"`` or None (default: off).
+        block, n_blocks, seed: the block composite likelihood's blocks
+            (:func:`~roughgp.inference.block_fit.fit_ground_to_valid_points`).
+        non_gaussian: keep the fitted heights' skewness and kurtosis in the model.
+        data: a dict describing the source (file name, checksum, ...), kept in the model.
+    """
+    arr = np.asarray(z, dtype=np.float64)
+    if arr.ndim != 2:
+        raise ValueError(f"z must be a surface z[iy, ix], got shape {arr.shape}")
+    _, (dy, dx) = normalize(arr.shape, spacing)
+    start = time.perf_counter()
+    texture = surface_texture(arr, (dy, dx), form=form, s=s, l=l, degree=degree, axis=axis)
+    heights = texture.sl
+    fit = fit_ground_to_valid_points(heights, spacing=(dy, dx), block=block, n_blocks=n_blocks,
+                                     seed=seed)
+    g = fit.groove
+    hyper = {"variance_um2": g.variance, "lambda_a_um": g.lengthscales[0],
+             "lambda_b_um": g.lengthscales[1], "angle_deg": math.degrees(g.angle),
+             "noise_variance_um2": fit.noise_variance, "mean_um": fit.mean}
+    missing = ~np.isfinite(heights)
+    described = {**(data or {}), "shape": list(arr.shape), "spacing_um": [dy, dx],
+                 "missing_fraction": float(missing.mean()), "points_used": fit.n_points}
+    how = {"method": "maximum block composite likelihood (roughgp.inference.block_fit)",
+           "log_likelihood": fit.log_likelihood, "block": block, "n_blocks": len(fit.blocks),
+           "seed": seed, "seconds": round(time.perf_counter() - start, 2)}
+    model = FittedModel("eq18", hyper, (dy, dx), _marginal(heights, non_gaussian),
+                        tuple(texture.operators), _cutoffs(form, texture.cutoffs.s,
+                                                           texture.cutoffs.l, degree, axis),
+                        described, how)
+    return SurfaceModelFit(model, texture, fit)
+
+
+def fit_profile_model(z, spacing=1.0, *, form="plane", s=None, l=None, num_mixtures=5, seed=0,
+                      n_candidates=10, non_gaussian=False, data=None) -> ProfileModelFit:
+    """Fit eq 21 plus noise to a measured profile ``z[ix]`` (um; complete, no NaN).
+
+    Args: as :func:`fit_surface_model`; ``form="plane"`` is the least-squares line;
+    ``num_mixtures`` (Q) and ``n_candidates`` as in
+    :func:`~roughgp.inference.fitting.fit_spectral_mixture`.
+    """
+    arr = np.asarray(z, dtype=np.float64)
+    if arr.ndim != 1:
+        raise ValueError(f"z must be a profile z[ix], got shape {arr.shape}")
+    dx = float(np.ravel(spacing)[-1])
+    if not (math.isfinite(dx) and dx > 0):
+        raise ValueError(f"spacing must be > 0, got {spacing!r}")
+    missing = int(np.count_nonzero(~np.isfinite(arr)))
+    if missing:
+        raise ValueError(f"the profile has {missing} missing (NaN) point(s); the eq 21 fit "
+                         "needs a complete profile (fill or crop them first)")
+    if arr.size < MIN_POINTS:
+        raise ValueError(f"the profile has {arr.size} points; the fit needs at least "
+                         f"{MIN_POINTS}")
+    start = time.perf_counter()
+    texture = surface_texture(arr, dx, form=form, s=s, l=l)
+    heights = texture.sl
+    x = np.arange(arr.size) * dx
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        mix = fit_spectral_mixture(x, heights, num_mixtures, seed=seed,
+                                   n_candidates=n_candidates,
+                                   n_optimise=min(3, n_candidates))
+    hyper = {"weights_um2": mix.weights, "frequencies_per_um": mix.means,
+             "spectral_variances_per_um2": mix.variances,
+             "noise_variance_um2": mix.noise_variance, "mean_um": mix.mean}
+    described = {**(data or {}), "shape": [arr.size], "spacing_um": [dx],
+                 "missing_fraction": 0.0, "points_used": int(arr.size)}
+    how = {"method": "maximum marginal likelihood, section 3.3 (roughgp.inference.fitting)",
+           "log_likelihood": mix.log_marginal_likelihood, "seed": seed,
+           "n_candidates": n_candidates, "seconds": round(time.perf_counter() - start, 2)}
+    model = FittedModel("eq21", hyper, (dx,), _marginal(heights, non_gaussian),
+                        tuple(texture.operators),
+                        _cutoffs(form, texture.cutoffs.s, texture.cutoffs.l, 2, "auto"),
+                        described, how)
+    return ProfileModelFit(model, texture, mix)

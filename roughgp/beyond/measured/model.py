@@ -1,0 +1,273 @@
+r"""A fitted model of a measured surface or profile, as a versioned JSON file (beyond the paper).
+
+The paper's loop is: measure a surface, fit the GP, simulate new surfaces like it. A
+:class:`FittedModel` is the middle of that loop, kept: the equation, its hyperparameters with
+their units, the height distribution (Gaussian, eq 8, or a Johnson transform of prescribed
+skewness and kurtosis, :mod:`roughgp.beyond.non_gaussian`), the operators applied to the data
+before the fit (form removal, S- and L-filters), the data it was fitted on and the fit's log
+likelihood. ``save`` / ``load`` write and read it (``format: roughgp-model``, ``version: 1``);
+``simulate(shape, seed=...)`` draws new surfaces from it.
+
+Equations:
+
+* ``"eq18"``: a surface, the rotated anisotropic exponential ACVF of eq 18
+  (:math:`\sigma_k^2, \lambda_a, \lambda_b, \phi`) plus Gaussian noise :math:`\sigma^2` (eq 8);
+* ``"eq21"``: a profile, the spectral mixture of eq 21 (weights, frequencies, spectral
+  variances) plus Gaussian noise.
+
+Non-Gaussian heights (``marginal = {"skewness": s, "kurtosis": k}``) are drawn as
+:math:`Z = T(X) + e`: the latent surface is the Johnson transform of a pre-distorted GP with the
+fitted latent ACVF (:func:`roughgp.beyond.non_gaussian.non_gaussian_surface`), and the noise
+``e`` is added after it. With the latent share :math:`w = \sigma_k^2 / (\sigma_k^2 + \sigma^2)`,
+a sum of independent parts has skewness :math:`w^{3/2}` times and excess kurtosis :math:`w^2`
+times the latent one, so the latent targets are the measured ones divided by these factors.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from roughgp.common.checks import as_generator
+from roughgp.common.grid import normalize
+from roughgp.gp.noise import GaussianNoise
+
+__all__ = ["FittedModel", "MODEL_FORMAT", "MODEL_VERSION", "EQUATIONS", "ModelFileError"]
+
+MODEL_FORMAT = "roughgp-model"
+MODEL_VERSION = 1
+#: equation -> (kind, the hyperparameters it needs, with their units in the names)
+EQUATIONS = {
+    "eq18": ("surface", ("variance_um2", "lambda_a_um", "lambda_b_um", "angle_deg",
+                         "noise_variance_um2")),
+    "eq21": ("profile", ("weights_um2", "frequencies_per_um", "spectral_variances_per_um2",
+                         "noise_variance_um2")),
+}
+_MAX_SIMULATE_POINTS = 2 ** 24
+
+
+class ModelFileError(ValueError):
+    """A model file that is not a roughgp model, of another version, or incomplete."""
+
+
+def _finite(name, value, *, positive=False, nonnegative=False):
+    values = np.atleast_1d(np.asarray(value, dtype=np.float64))
+    if not np.all(np.isfinite(values)):
+        raise ModelFileError(f"{name} must be finite, got {value!r}")
+    if positive and not np.all(values > 0):
+        raise ModelFileError(f"{name} must be > 0, got {value!r}")
+    if nonnegative and not np.all(values >= 0):
+        raise ModelFileError(f"{name} must be >= 0, got {value!r}")
+
+
+@dataclasses.dataclass(frozen=True)
+class FittedModel:
+    """A fitted eq 18 surface model or eq 21 profile model (module docstring).
+
+    Attributes:
+        equation: ``"eq18"`` or ``"eq21"``.
+        hyperparameters: the names of :data:`EQUATIONS` (units in the names: um, um^2, deg,
+            1/um); eq 21's are lists of Q values.
+        spacing: the grid spacing of the data, ``(dy, dx)`` (surface) or ``(dx,)`` (profile), um.
+        marginal: None (Gaussian heights) or ``{"skewness": s, "kurtosis": k}`` of the heights
+            (Pearson's kurtosis, 3 for Gaussian) that simulations reproduce.
+        operators: the operators applied to the data before the fit, e.g.
+            ``["F: cylinder ...", "L: Gaussian 250 um"]`` (they are applied to simulations
+            too when a model is checked).
+        cutoffs: ``{"form": ..., "s_um": ..., "l_um": ...}``: the operators' settings.
+        data: what the model was fitted on (file, shape, missing share, points used, ...).
+        fit: how (method, log likelihood, seed, seconds, ...).
+    """
+
+    equation: str
+    hyperparameters: dict
+    spacing: tuple
+    marginal: dict | None = None
+    operators: tuple = ()
+    cutoffs: dict = dataclasses.field(default_factory=dict)
+    data: dict = dataclasses.field(default_factory=dict)
+    fit: dict = dataclasses.field(default_factory=dict)
+
+    def __post_init__(self):
+        if self.equation not in EQUATIONS:
+            raise ModelFileError(f"equation must be one of {sorted(EQUATIONS)}, "
+                                 f"got {self.equation!r}")
+        kind, names = EQUATIONS[self.equation]
+        missing = [n for n in names if n not in self.hyperparameters]
+        if missing:
+            raise ModelFileError(f"the {self.equation} model lacks {', '.join(missing)}")
+        hp = self.hyperparameters
+        want = 2 if kind == "surface" else 1
+        if len(self.spacing) != want:
+            raise ModelFileError(f"a {kind} model has {want} spacing value(s), got "
+                                 f"{list(self.spacing)}")
+        _finite("spacing", self.spacing, positive=True)
+        _finite("noise_variance_um2", hp["noise_variance_um2"], nonnegative=True)
+        if kind == "surface":
+            for name in ("variance_um2", "lambda_a_um", "lambda_b_um"):
+                _finite(name, hp[name], positive=True)
+            _finite("angle_deg", hp["angle_deg"])
+        else:
+            lengths = {len(np.atleast_1d(hp[n])) for n in names[:3]}
+            if len(lengths) != 1:
+                raise ModelFileError("weights_um2, frequencies_per_um and "
+                                     "spectral_variances_per_um2 must have the same length")
+            _finite("weights_um2", hp["weights_um2"], positive=True)
+            _finite("frequencies_per_um", hp["frequencies_per_um"], nonnegative=True)
+            _finite("spectral_variances_per_um2", hp["spectral_variances_per_um2"],
+                    positive=True)
+        if self.marginal is not None:
+            s, k = (float(self.marginal.get(n, math.nan)) for n in ("skewness", "kurtosis"))
+            if not (math.isfinite(s) and math.isfinite(k) and k > s * s + 1):
+                raise ModelFileError(f"marginal needs a finite skewness and a kurtosis > "
+                                     f"skewness**2 + 1, got {self.marginal!r}")
+
+    # ------------------------------------------------------------------ what it is
+    @property
+    def kind(self) -> str:
+        """``"surface"`` or ``"profile"``."""
+        return EQUATIONS[self.equation][0]
+
+    @property
+    def noise_variance(self) -> float:
+        return float(self.hyperparameters["noise_variance_um2"])
+
+    def kernel(self):
+        """The fitted latent kernel (:mod:`roughgp.gp.kernels`), lengths in um."""
+        hp = self.hyperparameters
+        if self.equation == "eq18":
+            from roughgp.gp.kernels import RotatedExponentialKernel
+            return RotatedExponentialKernel(hp["variance_um2"],
+                                            (hp["lambda_a_um"], hp["lambda_b_um"]),
+                                            math.radians(hp["angle_deg"]))
+        from roughgp.gp.kernels import SpectralMixtureKernel
+        weights = np.asarray(hp["weights_um2"], dtype=np.float64)
+        q = weights.size
+        return SpectralMixtureKernel(
+            q, dim=1, weights=weights,
+            means=np.asarray(hp["frequencies_per_um"], dtype=np.float64).reshape(q, 1),
+            variances=np.asarray(hp["spectral_variances_per_um2"],
+                                 dtype=np.float64).reshape(q, 1))
+
+    def latent_variance(self) -> float:
+        hp = self.hyperparameters
+        if self.equation == "eq18":
+            return float(hp["variance_um2"])
+        return float(np.sum(hp["weights_um2"]))
+
+    def describe(self) -> str:
+        """One line: the equation and its hyperparameters."""
+        hp = self.hyperparameters
+        if self.equation == "eq18":
+            text = (f"eq 18: variance {hp['variance_um2']:.4g} um^2, lambda_a "
+                    f"{hp['lambda_a_um']:.4g} um, lambda_b {hp['lambda_b_um']:.4g} um, angle "
+                    f"{hp['angle_deg']:.1f} deg")
+        else:
+            q = len(np.atleast_1d(hp["weights_um2"]))
+            text = f"eq 21: Q = {q} spectral-mixture components, variance " \
+                   f"{self.latent_variance():.4g} um^2"
+        text += f"; noise variance {self.noise_variance:.3g} um^2"
+        if self.marginal is not None:
+            text += (f"; Johnson heights (skewness {self.marginal['skewness']:.3g}, kurtosis "
+                     f"{self.marginal['kurtosis']:.3g})")
+        return text
+
+    # ------------------------------------------------------------------ drawing
+    def simulate(self, shape, *, seed=None, spacing=None, n_samples=None, method="auto"):
+        """Draws from the model on a grid of ``shape`` (``(ny, nx)``, or ``n`` / ``(n,)`` for
+        a profile model) at the model's spacing (or ``spacing``, um).
+
+        Returns ``z`` of ``shape`` (``(n_samples, *shape)`` when ``n_samples`` is an int):
+        the latent GP (Johnson-transformed when the model has a ``marginal``) plus the noise.
+        """
+        from roughgp.sampling import sample_grid
+        shape = (int(shape),) if np.ndim(shape) == 0 else tuple(int(n) for n in shape)
+        want = 2 if self.kind == "surface" else 1
+        if len(shape) != want or min(shape) < 1:
+            raise ValueError(f"shape must be {'(ny, nx)' if want == 2 else '(n,)'} of positive "
+                             f"integers for a {self.kind} model, got {shape}")
+        count = 1 if n_samples is None else int(n_samples)
+        if count < 1:
+            raise ValueError(f"n_samples must be >= 1, got {n_samples!r}")
+        if count * math.prod(shape) > _MAX_SIMULATE_POINTS:
+            raise ValueError(f"n_samples x shape = {count * math.prod(shape)} points exceeds "
+                             f"{_MAX_SIMULATE_POINTS} (2**24): draw fewer or smaller surfaces")
+        shape, spacing = normalize(shape, self.spacing if spacing is None else spacing)
+        rng = as_generator(seed)
+        kernel = self.kernel()
+        if self.marginal is None:
+            latent = sample_grid(kernel, shape, spacing=spacing, n_samples=count, method=method,
+                                 seed=rng)
+        else:
+            from roughgp.beyond.non_gaussian import non_gaussian_surface
+            w = self.latent_variance() / (self.latent_variance() + self.noise_variance)
+            skew = float(self.marginal["skewness"]) / w ** 1.5
+            kurt = 3.0 + (float(self.marginal["kurtosis"]) - 3.0) / w ** 2
+            latent, _ = non_gaussian_surface(kernel, shape, skewness=skew, kurtosis=kurt,
+                                             spacing=spacing, seed=rng, n_samples=count,
+                                             method="circulant" if method == "auto" else method)
+        z = GaussianNoise(self.noise_variance).sample(latent, seed=rng)
+        return z if n_samples is not None else z[0]
+
+    # ------------------------------------------------------------------ the file
+    def to_dict(self) -> dict:
+        from roughgp import __version__
+        return {"format": MODEL_FORMAT, "version": MODEL_VERSION, "equation": self.equation,
+                "kind": self.kind, "description": self.describe(),
+                "hyperparameters": _plain(self.hyperparameters),
+                "spacing_um": [float(d) for d in self.spacing],
+                "marginal": _plain(self.marginal), "operators": list(self.operators),
+                "cutoffs": _plain(self.cutoffs), "data": _plain(self.data),
+                "fit": _plain(self.fit), "roughgp_version": __version__}
+
+    @classmethod
+    def from_dict(cls, values, source="the model") -> "FittedModel":
+        if not isinstance(values, dict) or values.get("format") != MODEL_FORMAT:
+            raise ModelFileError(f"{source} is not a roughgp model file (no \"format\": "
+                                 f"\"{MODEL_FORMAT}\"; write one with roughgp fit ... --out)")
+        if values.get("version") != MODEL_VERSION:
+            raise ModelFileError(f"{source} is a model file of version "
+                                 f"{values.get('version')!r}; this roughgp reads version "
+                                 f"{MODEL_VERSION}")
+        try:
+            return cls(equation=values["equation"], hyperparameters=dict(values["hyperparameters"]),
+                       spacing=tuple(values["spacing_um"]), marginal=values.get("marginal"),
+                       operators=tuple(values.get("operators", ())),
+                       cutoffs=dict(values.get("cutoffs", {})), data=dict(values.get("data", {})),
+                       fit=dict(values.get("fit", {})))
+        except (KeyError, TypeError) as exc:
+            raise ModelFileError(f"{source} lacks or garbles the field {exc}") from None
+
+    def save(self, path) -> Path:
+        path = Path(path)
+        path.write_text(json.dumps(self.to_dict(), indent=2, allow_nan=True) + "\n")
+        return path
+
+    @classmethod
+    def load(cls, path) -> "FittedModel":
+        path = Path(path)
+        try:
+            values = json.loads(path.read_text())
+        except UnicodeDecodeError:
+            raise ModelFileError(f"{path} is not a text (JSON) model file") from None
+        except json.JSONDecodeError as exc:
+            raise ModelFileError(f"{path} is not valid JSON ({exc.msg}, line {exc.lineno})") \
+                from None
+        return cls.from_dict(values, source=str(path))
+
+
+def _plain(value):
+    """JSON-ready: numpy scalars and arrays as Python numbers and lists."""
+    if isinstance(value, dict):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return _plain(value.tolist())
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
