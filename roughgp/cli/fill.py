@@ -97,12 +97,20 @@ def run(args) -> int:
             "approximate")
     err(f"filled in {fill.seconds:.1f} s ({fill.iterations} CG iterations"
         + (f", {args.samples} draws for the sd" if args.samples else "") + ")")
-    comment = f"roughgp fill {Path(args.file).name} --seed {args.seed}"
-    write_heights(out, result.filled, spacing, comment)
+    comment = (f"roughgp fill {Path(args.file).name} --seed {args.seed}: levelled by a "
+               f"least-squares plane (added back), eq 18 plus white noise fitted to the "
+               f"measured points ({describe_groove(fit.groove)}, noise variance "
+               f"{fit.noise_variance:.4g} um^2), the {missing.sum()} missing points filled by "
+               f"the GP posterior mean")
+    write_heights(out, result.filled, spacing, comment, source=heights.meta)
     err(f"wrote {out} (the measured heights, the {missing.sum()} missing ones filled by the "
         f"posterior mean)")
     if sd_out is not None:
-        write_heights(sd_out, result.sd, spacing, comment + " (posterior sd)")
+        offset = heights.meta.get("offset")  # an sd is no height: no z offset
+        sd_offset = None if offset is None else (*tuple(offset)[:2], 0.0)
+        write_heights(sd_out, result.sd, spacing,
+                      comment + f"; this file: the posterior sd ({args.samples} draws)",
+                      source={**heights.meta, "offset": sd_offset})
         sd = result.sd[missing]
         err(f"wrote {sd_out} (posterior sd of the latent surface at the filled points, 0 at "
             f"measured ones; median {np.median(sd):.3g} um, largest {sd.max():.3g} um)")

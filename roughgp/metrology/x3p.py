@@ -8,7 +8,8 @@ declared sizes before any allocation, the MD5 checksums where the file has them,
 data types of the standard (``I`` int16, ``L`` int32, ``F`` float32, ``D`` float64, with the
 z axis' increment applied as x3pio applies it, and the valid-points mask of integer data). Axis offsets are the
 placement of the first point and go to ``meta["offset"]``, as on the x3pio path. Invalid
-points are NaN. :func:`write_x3p` writes through x3pio.
+points are NaN. :func:`write_x3p` writes through x3pio, in the revision that SurfaceTopography,
+surfalize and x3pio all read (:data:`WRITE_REVISION`).
 
 Layout: a surface is ``z[iy, ix]`` (the data file runs x fastest), spacing ``(dy, dx)``.
 """
@@ -28,7 +29,7 @@ import numpy as np
 from roughgp.common.grid import normalize
 from roughgp.metrology.readers import MAX_POINTS, MalformedFileError
 
-__all__ = ["MAX_XML_BYTES", "HeightMap", "read_x3p", "write_x3p"]
+__all__ = ["MAX_XML_BYTES", "WRITE_REVISION", "HeightMap", "read_x3p", "write_x3p"]
 
 #: Largest uncompressed ``main.xml`` of an x3p file that is parsed (256 MiB).
 MAX_XML_BYTES = 2 ** 28
@@ -120,10 +121,15 @@ def read_x3p(path, *, layer=0) -> HeightMap:
     try:
         info = x3pio.info(path)
     except x3pio.X3pChecksumError as error:
-        raise _bad(path, f"not a valid x3p file: {error}") from None
+        if not _checksum_of_another_member(path):
+            raise _bad(path, f"not a valid x3p file: {error}") from None
+        # SurfaceTopography 1.27 writes the data's MD5 (``HASH *bindata/data.bin``) into
+        # md5checksum.hex: it names the member it checks, and that member matches
+        return _read_lenient(path, layer, why="md5checksum.hex holds the checksum of the "
+                                              "data, not of main.xml")
     except x3pio.X3pFormatError as error:  # the form (a top folder, no namespace): lenient
         try:
-            return _read_lenient(path, layer)
+            return _read_lenient(path, layer, why=None)
         except MalformedFileError as lenient:
             raise _bad(path, f"not a valid x3p file: {error}; read leniently: "
                              f"{str(lenient).split(': ', 1)[-1]}") from None
@@ -186,17 +192,28 @@ def read_x3p(path, *, layer=0) -> HeightMap:
                      types.MappingProxyType(meta))
 
 
-def write_x3p(path, z, spacing, *, comment=None) -> None:
+#: The ``Revision`` that :func:`write_x3p` writes: ISO 25178-72:2017 under its openGPS name,
+#: the one SurfaceTopography 1.27 requires and surfalize and x3pio read too (the newer
+#: ``ISO25178-72:2017/DAM1`` of Amd 1:2020, x3pio's default, is refused by SurfaceTopography).
+WRITE_REVISION = "ISO5436 - 2000"
+
+
+def write_x3p(path, z, spacing, *, comment=None, creator=None, offset=None) -> None:
     """Write a profile ``z[ix]`` or a surface ``z[iy, ix]`` to an ISO 25178-72 ``.x3p`` file.
 
     The layout is that of :func:`read_x3p`: heights and ``spacing`` (scalar or array order,
     ``(dy, dx)``) in micrometres; they are stored in metres (times 1e-6) as float64 with
     x3pio's documented ``x3pio.write``, so ``read_x3p`` gives them back to float rounding.
-    NaN marks a missing point; infinite heights are refused. ``Record2`` names roughgp as
-    the software (x3p's record of data not measured), with ``comment`` if given.
+    The file follows :data:`WRITE_REVISION` (read by SurfaceTopography, surfalize and x3pio),
+    with the MD5 checksums of ``main.xml`` and of the data. NaN marks a missing point;
+    infinite heights are refused. ``Record2`` names roughgp as the software (x3p's record of
+    data not measured), with ``creator`` and ``comment`` if given; ``offset`` (x, y, z in
+    micrometres, as ``read_x3p``'s ``meta["offset"]``) places the first point, as the axes'
+    offsets of the input file did.
 
     Raises:
-        ValueError: ``z`` not 1-D / 2-D or holding infinite values, or a bad ``spacing``.
+        ValueError: ``z`` not 1-D / 2-D or holding infinite values, a bad ``spacing`` or a
+            non-finite ``offset``.
     """
     x3pio = _x3pio()
     arr = np.asarray(z, dtype=np.float64)
@@ -209,7 +226,15 @@ def write_x3p(path, z, spacing, *, comment=None) -> None:
     from roughgp import __version__
     metadata = x3pio.Metadata.for_software("roughgp", __version__)
     metadata.comment = None if comment is None else str(comment)
-    options = {"metadata": metadata}
+    metadata.creator = None if creator is None else str(creator)
+    options = {"metadata": metadata, "revision": x3pio.Revision(WRITE_REVISION)}
+    if offset is not None:
+        shift = np.asarray(offset, dtype=np.float64).reshape(-1)
+        if shift.shape != (3,) or not np.all(np.isfinite(shift)):
+            raise ValueError(f"offset must be three finite numbers (x, y, z in um), got "
+                             f"{offset!r}")
+        options.update(placement=x3pio.Placement(offset=shift / _UM_PER_M),
+                       coordinate_system=x3pio.CoordinateSystem.VIEW)
     heights = arr / _UM_PER_M
     if arr.ndim == 1:
         x3pio.write(path, heights, x_scale=float(spacing[0]) / _UM_PER_M, **options)
@@ -271,7 +296,31 @@ def _checked_bytes(path, archive, info, expected_md5, what, limit):
     return data
 
 
-def _read_lenient(path, layer=0) -> HeightMap:
+def _stated_checksum(archive, root_dir):
+    """``(md5, member name)`` from md5checksum.hex (``HASH *name``; no name: main.xml), or
+    None where the archive has no (small) checksum file."""
+    checksum_file = _member(archive, root_dir, "md5checksum.hex")
+    if checksum_file is None or checksum_file.file_size >= 4096:
+        return None
+    stated = archive.read(checksum_file).decode("ascii", "replace").split()
+    if not stated:
+        return None
+    return stated[0].lower(), (stated[1].lstrip("*") if len(stated) > 1 else "main.xml")
+
+
+def _checksum_of_another_member(path) -> bool:
+    """Whether md5checksum.hex names a member other than main.xml, whose MD5 it matches."""
+    with zipfile.ZipFile(path) as archive:
+        stated = _stated_checksum(archive, "")
+        if stated is None or posixpath.basename(stated[1]) == "main.xml":
+            return False
+        info = _member(archive, "", stated[1])
+        if info is None or info.file_size > MAX_POINTS * 8:
+            return False
+        return hashlib.md5(archive.read(info)).hexdigest().lower() == stated[0]
+
+
+def _read_lenient(path, layer=0, why=None) -> HeightMap:
     """Read an x3p file that x3pio refuses for its form (module docstring)."""
     from defusedxml import ElementTree
 
@@ -288,11 +337,10 @@ def _read_lenient(path, layer=0) -> HeightMap:
         main = mains[0]
         root_dir = posixpath.dirname(main.filename.replace("\\", "/"))
         xml = archive.read(main)
-        checksum_file = _member(archive, root_dir, "md5checksum.hex")
-        if checksum_file is not None and checksum_file.file_size < 4096:
-            stated = archive.read(checksum_file).decode("ascii", "replace").split()
-            if stated and hashlib.md5(xml).hexdigest().lower() != stated[0].lower():
-                raise _bad(path, "the MD5 checksum of main.xml does not match md5checksum.hex")
+        stated = _stated_checksum(archive, root_dir)
+        if stated is not None and posixpath.basename(stated[1]) == "main.xml" \
+                and hashlib.md5(xml).hexdigest().lower() != stated[0]:
+            raise _bad(path, "the MD5 checksum of main.xml does not match md5checksum.hex")
         try:
             doc = ElementTree.fromstring(xml)
         except Exception as error:  # defusedxml's refusals and XML syntax errors
@@ -382,7 +430,7 @@ def _read_lenient(path, layer=0) -> HeightMap:
                                                    for n in ("Type", "Identification")) if v)
             or None,
             "comment": _value(r2, "Comment"),
-            "reader": "lenient (not read by x3pio: "
-                      + ("a top folder in the zip" if root_dir else "its form") + ")",
+            "reader": "lenient (not read by x3pio: " + (
+                why or ("a top folder in the zip" if root_dir else "its form")) + ")",
         }
     return HeightMap(np.ascontiguousarray(z), spacing, "um", types.MappingProxyType(meta))
