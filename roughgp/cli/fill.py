@@ -11,8 +11,9 @@ import numpy as np
 
 from roughgp.cli.output import (
     UsageError,
+    add_force_option,
     check_device,
-    check_output,
+    check_outputs,
     check_spacing,
     describe_groove,
     err,
@@ -49,6 +50,7 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                    help="pathwise draws for the sd (default 16; 0: the mean only)")
     f.add_argument("--seed", type=int, default=0, metavar="S",
                    help="seed of the blocks chosen for the fit and of the draws (default 0)")
+    add_force_option(f)
     f.add_argument("--block", type=int, default=24, metavar="B",
                    help="side of the fit's blocks in points (default 24)")
     f.add_argument("--blocks", type=int, default=12, metavar="K",
@@ -61,8 +63,8 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
 def run(args) -> int:
     """``roughgp fill FILE``: fill the unmeasured points of a surface with the GP posterior."""
     from roughgp.beyond.measured_fill import fill_measured_surface
-    out = check_output(args.out)
-    sd_out = check_output(args.sd, "--sd") if args.sd else None
+    out, sd_out = check_outputs(("--out", args.out, "heights"), ("--sd", args.sd, "heights"),
+                                inputs=(args.file,), force=args.force)
     if args.samples < 0:
         raise UsageError(f"--samples must be >= 0, got {args.samples}")
     if sd_out is not None and args.samples < 2:
