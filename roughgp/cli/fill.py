@@ -73,6 +73,8 @@ def run(args) -> int:
     check_spacing(args.spacing)
     heights = read_measurement(args.file, kind="surface", spacing=args.spacing,
                                channel=args.channel, unit=args.unit)
+    for note in heights.notes:
+        err(f"note: {args.file}: {note}")
     if heights.kind != "surface":
         raise UsageError(f"{args.file} holds a profile; fill needs a surface z[iy, ix]")
     (dy, dx), z = heights.spacing, heights.z

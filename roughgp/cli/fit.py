@@ -70,6 +70,8 @@ def run(args) -> int:
     check_outputs(("--out", args.out, "json"), inputs=(args.file,), force=args.force)
     heights = read_measurement(args.file, kind=args.kind, spacing=args.spacing,
                                channel=args.channel, unit=args.unit)
+    for note in heights.notes:
+        err(f"note: {args.file}: {note}")
     z, spacing, how = mean_profile(heights, args.axis)
     missing = int(np.count_nonzero(np.isnan(z)))
     if missing:

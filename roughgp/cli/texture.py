@@ -104,7 +104,7 @@ def run(args) -> int:
                   f"{heights.reader}")
     print_wrapped("operators: " + ("; ".join(report.operators) if report.operators
                                    else "none (unfiltered)"))
-    for note in report.notes:
+    for note in (*heights.notes, *report.notes):
         print_wrapped(f"note: {note}")
     for name, value in report.parameters.items():
         print(f"  {name:<5} {value:>12.5g} {unit_of(name)}".rstrip())
@@ -115,7 +115,8 @@ def run(args) -> int:
                                "spacing_from": heights.spacing_source,
                                "height_unit_from": heights.unit_source,
                                "reader": heights.reader, "standard": report.standard,
-                               "operators": report.operators, "notes": report.notes,
+                               "operators": report.operators,
+                               "notes": [*heights.notes, *report.notes],
                                "parameters": report.parameters,
                                "units": {k: unit_of(k) for k in report.parameters}})
     return 0

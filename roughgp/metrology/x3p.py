@@ -29,7 +29,7 @@ import numpy as np
 from roughgp.common.grid import normalize
 from roughgp.metrology.readers import MAX_POINTS, MalformedFileError
 
-__all__ = ["MAX_XML_BYTES", "WRITE_REVISION", "HeightMap", "read_x3p", "write_x3p"]
+__all__ = ["MAX_XML_BYTES", "LATERAL_RANGE", "Z_RANGE", "WRITE_REVISION", "HeightMap", "read_x3p", "write_x3p"]
 
 #: Largest uncompressed ``main.xml`` of an x3p file that is parsed (256 MiB).
 MAX_XML_BYTES = 2 ** 28
@@ -83,6 +83,35 @@ def _check_container(path):
         if info.file_size > MAX_XML_BYTES:
             raise _bad(path, f"{info.filename} declares {info.file_size} bytes, more than "
                              f"MAX_XML_BYTES = {MAX_XML_BYTES}")
+
+
+#: The lateral increments read, metres: 1 pm to 1 m a step (beyond them: a damaged file).
+LATERAL_RANGE = (1e-12, 1.0)
+#: The z increments read, metres per stored unit (1 for float data, ~1e-9 for integers).
+Z_RANGE = (1e-18, 1e3)
+
+
+def _check_scales(path, lateral, z_scale, z_offset=0.0):
+    """Refuse increments outside :data:`LATERAL_RANGE` / :data:`Z_RANGE` (1e300, 1e-320, 0)."""
+    for name, d in lateral:
+        if not (math.isfinite(d) and LATERAL_RANGE[0] <= abs(d) <= LATERAL_RANGE[1]):
+            raise _bad(path, f"the {name} increment {float(d)!r} m is not a usable step: "
+                             f"roughgp reads |increment| from {LATERAL_RANGE[0]:g} to "
+                             f"{LATERAL_RANGE[1]:g} m")
+    if not (math.isfinite(z_scale) and Z_RANGE[0] <= abs(z_scale) <= Z_RANGE[1]):
+        raise _bad(path, f"the z increment {float(z_scale)!r} is not a usable height scale: "
+                         f"roughgp reads |increment| from {Z_RANGE[0]:g} to {Z_RANGE[1]:g} "
+                         "m per stored unit")
+    if not (math.isfinite(z_offset) and abs(z_offset) <= 1e3):
+        raise _bad(path, f"the z offset {float(z_offset)!r} m is not finite and at most 1e3 m")
+
+
+def _check_rotation(path, rotation):
+    """Refuse a Record1 rotation other than the identity (the grid would not be z[iy, ix])."""
+    if rotation is not None and not np.allclose(rotation, np.eye(3), rtol=0, atol=1e-9):
+        rows = "; ".join(" ".join(f"{v:.6g}" for v in row) for row in np.asarray(rotation))
+        raise _bad(path, f"Record1 rotates the data (Axes/Rotation = [{rows}], not the "
+                         "identity): roughgp reads unrotated grids only")
 
 
 def _text(value):
@@ -145,9 +174,13 @@ def read_x3p(path, *, layer=0) -> HeightMap:
         if not axis.is_incremental:
             raise _bad(path, f"the {name} axis is absolute (irregular positions): only "
                              "regular grids are read")
-        if not (math.isfinite(axis.increment) and axis.increment != 0):
-            raise _bad(path, f"the {name} increment {axis.increment!r} is not finite and "
-                             "non-zero")
+    _check_scales(path, [(name, axis.increment) for name, axis in axes],
+                  header.z.increment, float(info.placement.offset[2]))
+    _check_rotation(path, info.placement.rotation)
+    if min(info.shape, default=0) < 1:
+        sizes = ("SizeY", "SizeX") if kind == "SURFACE" else ("SizeX",)
+        raise _bad(path, "declares an empty matrix (" + ", ".join(
+            f"{n} = {v}" for n, v in zip(sizes, info.shape)) + ")")
     points = math.prod(info.shape) * info.layer_count
     if points > MAX_POINTS:
         shape = " x ".join(str(n) for n in info.shape)
@@ -361,22 +394,21 @@ def _read_lenient(path, layer=0, why=None) -> HeightMap:
                                  "positions): only regular grids are read")
         dx = _number(path, axes, ("CX", "Increment"))
         dy = _number(path, axes, ("CY", "Increment"), default=dx) if kind == "SUR" else dx
-        for name, d in (("x", dx), ("y", dy)):
-            if not (math.isfinite(d) and d != 0 and abs(d) * _UM_PER_M > 1e-12):
-                raise _bad(path, f"the {name} increment {d!r} is not a finite, non-zero step")
         dtype = (_value(axes, "CZ", "DataType") or "D").upper()
         if dtype not in _DTYPES:
             raise _bad(path, f"z data type {dtype!r} is not one of I, L, F, D")
         z_scale = _number(path, axes, ("CZ", "Increment"), default=1.0)
         z_offset = _number(path, axes, ("CZ", "Offset"), default=0.0)
-        if not (math.isfinite(z_scale) and z_scale != 0 and abs(z_scale) < 1e100
-                and math.isfinite(z_offset) and abs(z_offset) < 1e100):
-            raise _bad(path, f"the z increment {z_scale!r} / offset {z_offset!r} is not "
-                             "a usable scale (finite, non-zero, below 1e100)")
+        _check_scales(path, (("x", dx), ("y", dy)), z_scale, z_offset)
+        rotation = _find(axes, "Rotation")
+        if rotation is not None:
+            _check_rotation(path, [[_number(path, rotation, (f"r{i}{j}",), default=float(i == j))
+                                    for j in (1, 2, 3)] for i in (1, 2, 3)])
         size = [int(_number(path, r3, ("MatrixDimension", n), default=1.0))
                 for n in ("SizeX", "SizeY", "SizeZ")]
         if min(size) < 1:
-            raise _bad(path, f"declares an empty matrix (SizeX, SizeY, SizeZ = {size})")
+            raise _bad(path, "declares an empty matrix (" + ", ".join(
+                f"{n} = {v}" for n, v in zip(("SizeX", "SizeY", "SizeZ"), size)) + ")")
         points = math.prod(size)
         if points > MAX_POINTS:
             raise _bad(path, f"declares {size[2]} layer(s) of {size[1]} x {size[0]} = "
