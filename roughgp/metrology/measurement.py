@@ -122,10 +122,38 @@ def _text_header(path: Path) -> tuple[str | None, float | None, list[str]]:
     return kind, spacing, units
 
 
+def _bytes(n: int) -> str:
+    """``n`` bytes in words: ``7.28 TiB``."""
+    unit = max((k for k in range(7) if n >= 1024 ** k), default=0)
+    return f"{n / 1024 ** unit:.3g} {('bytes', 'KiB', 'MiB', 'GiB', 'TiB', 'PiB', 'EiB')[unit]}"
+
+
 def _npy(path: Path, kind: str, spacing):
+    fmt = np.lib.format
     with open(path, "rb") as stream:
         if stream.read(6) != b"\x93NUMPY":
             raise MalformedFileError(f"{path}: not a .npy file (no NumPy header)")
+        stream.seek(0)
+        try:  # the header alone, before any allocation
+            version = fmt.read_magic(stream)
+            read = fmt.read_array_header_1_0 if version == (1, 0) else fmt.read_array_header_2_0
+            shape, _, dtype = read(stream)
+        except Exception as exc:  # truncated or malformed headers raise many kinds of errors
+            raise MalformedFileError(f"{path}: not a readable .npy header "
+                                     f"({type(exc).__name__}: {exc})") from None
+        data_start = stream.tell()
+    if dtype.hasobject:
+        raise MalformedFileError(f"{path}: holds Python objects (a pickle), not numbers: "
+                                 "refused (roughgp never unpickles a file)")
+    points = math.prod(shape)
+    if points > readers.MAX_POINTS:
+        raise MalformedFileError(f"{path}: declares an array of shape {shape} = {points:.3g} "
+                                 f"points ({_bytes(points * dtype.itemsize)}), more "
+                                 f"than MAX_POINTS = {readers.MAX_POINTS}")
+    if path.stat().st_size - data_start < points * dtype.itemsize:
+        raise MalformedFileError(f"{path}: truncated: the header declares {shape} of {dtype} "
+                                 f"({points * dtype.itemsize} bytes), the file holds "
+                                 f"{path.stat().st_size - data_start}")
     try:
         z = np.load(path, allow_pickle=False)
     except (ValueError, OSError, EOFError) as exc:

@@ -206,3 +206,41 @@ def test_x3p_identity_rotation_is_read(tmp_path, members):
     for top in ("", "folder/"):
         h = x3p.read_x3p(_rezip(tmp_path / f"id{len(top)}.x3p", members, identity, top=top))
         assert h.z.shape == (3, 4)
+
+
+# --------------------------------------------------------------------------- hostile .npy
+
+def _npy_header(shape, descr="<f8"):
+    header = f"{{'descr': '{descr}', 'fortran_order': False, 'shape': {shape}, }}"
+    header += " " * (117 - len(header)) + "\n"   # 10 + 118 bytes: a 64-byte multiple
+    return b"\x93NUMPY\x01\x00" + len(header).to_bytes(2, "little") + header.encode()
+
+
+def test_npy_declaring_a_huge_array_is_refused_with_its_size(tmp_path):
+    path = tmp_path / "huge.npy"
+    path.write_bytes(_npy_header((10 ** 6, 10 ** 6)) + b"\x00" * 16)
+    assert path.stat().st_size == 144
+    with pytest.raises(MalformedFileError,
+                       match=r"\(1000000, 1000000\).*7.28 TiB.*MAX_POINTS"):
+        read_measurement(path)
+
+
+def test_npy_truncated_header_and_data_are_refused(tmp_path):
+    path = tmp_path / "cut.npy"
+    path.write_bytes(_npy_header((4, 5))[:40])
+    with pytest.raises(MalformedFileError, match="not a readable .npy header"):
+        read_measurement(path)
+    short = tmp_path / "short.npy"
+    short.write_bytes(_npy_header((4, 5)) + b"\x00" * 24)
+    with pytest.raises(MalformedFileError, match="truncated.*160 bytes"):
+        read_measurement(short)
+
+
+def test_npy_pickle_is_refused(tmp_path, capsys):
+    path = tmp_path / "pickle.npy"
+    np.save(path, np.array([{"a": 1}, None], dtype=object), allow_pickle=True)
+    with pytest.raises(MalformedFileError, match="pickle"):
+        read_measurement(path)
+    assert main(["texture", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "pickle" in err and "Traceback" not in err
