@@ -11,8 +11,9 @@ import numpy as np
 
 from roughgp.cli.output import (
     UsageError,
+    add_force_option,
     check_device,
-    check_output,
+    check_outputs,
     check_spacing,
     describe_groove,
     err,
@@ -49,6 +50,7 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                    help="pathwise draws for the sd (default 16; 0: the mean only)")
     f.add_argument("--seed", type=int, default=0, metavar="S",
                    help="seed of the blocks chosen for the fit and of the draws (default 0)")
+    add_force_option(f)
     f.add_argument("--block", type=int, default=24, metavar="B",
                    help="side of the fit's blocks in points (default 24)")
     f.add_argument("--blocks", type=int, default=12, metavar="K",
@@ -61,8 +63,8 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
 def run(args) -> int:
     """``roughgp fill FILE``: fill the unmeasured points of a surface with the GP posterior."""
     from roughgp.beyond.measured_fill import fill_measured_surface
-    out = check_output(args.out)
-    sd_out = check_output(args.sd, "--sd") if args.sd else None
+    out, sd_out = check_outputs(("--out", args.out, "heights"), ("--sd", args.sd, "heights"),
+                                inputs=(args.file,), force=args.force)
     if args.samples < 0:
         raise UsageError(f"--samples must be >= 0, got {args.samples}")
     if sd_out is not None and args.samples < 2:
@@ -71,6 +73,8 @@ def run(args) -> int:
     check_spacing(args.spacing)
     heights = read_measurement(args.file, kind="surface", spacing=args.spacing,
                                channel=args.channel, unit=args.unit)
+    for note in heights.notes:
+        err(f"note: {args.file}: {note}")
     if heights.kind != "surface":
         raise UsageError(f"{args.file} holds a profile; fill needs a surface z[iy, ix]")
     (dy, dx), z = heights.spacing, heights.z
@@ -97,12 +101,20 @@ def run(args) -> int:
             "approximate")
     err(f"filled in {fill.seconds:.1f} s ({fill.iterations} CG iterations"
         + (f", {args.samples} draws for the sd" if args.samples else "") + ")")
-    comment = f"roughgp fill {Path(args.file).name} --seed {args.seed}"
-    write_heights(out, result.filled, spacing, comment)
+    comment = (f"roughgp fill {Path(args.file).name} --seed {args.seed}: levelled by a "
+               f"least-squares plane (added back), eq 18 plus white noise fitted to the "
+               f"measured points ({describe_groove(fit.groove)}, noise variance "
+               f"{fit.noise_variance:.4g} um^2), the {missing.sum()} missing points filled by "
+               f"the GP posterior mean")
+    write_heights(out, result.filled, spacing, comment, source=heights.meta)
     err(f"wrote {out} (the measured heights, the {missing.sum()} missing ones filled by the "
         f"posterior mean)")
     if sd_out is not None:
-        write_heights(sd_out, result.sd, spacing, comment + " (posterior sd)")
+        offset = heights.meta.get("offset")  # an sd is no height: no z offset
+        sd_offset = None if offset is None else (*tuple(offset)[:2], 0.0)
+        write_heights(sd_out, result.sd, spacing,
+                      comment + f"; this file: the posterior sd ({args.samples} draws)",
+                      source={**heights.meta, "offset": sd_offset})
         sd = result.sd[missing]
         err(f"wrote {sd_out} (posterior sd of the latent surface at the filled points, 0 at "
             f"measured ones; median {np.median(sd):.3g} um, largest {sd.max():.3g} um)")

@@ -10,7 +10,15 @@ import warnings
 
 import numpy as np
 
-from roughgp.cli.output import UsageError, check_spacing, err, print_wrapped, write_json
+from roughgp.cli.output import (
+    UsageError,
+    add_force_option,
+    check_outputs,
+    check_spacing,
+    err,
+    print_wrapped,
+    write_json,
+)
 from roughgp.metrology.measurement import mean_profile, read_measurement
 
 __all__ = ['add_parser', 'run']
@@ -45,7 +53,8 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                    help="initialisations scored (default 10)")
     f.add_argument("--axis", choices=("x", "y"), default="x",
                    help="for a surface: the direction of the mean profile (default x)")
-    f.add_argument("--out", metavar="RESULT.json", help="write the fit as JSON")
+    f.add_argument("--out", metavar="RESULT.json", help="write the fit as JSON (.json)")
+    add_force_option(f)
     f.set_defaults(func=run)
 
 
@@ -58,8 +67,11 @@ def run(args) -> int:
     if args.candidates < 1:
         raise UsageError(f"--candidates must be >= 1, got {args.candidates}")
     check_spacing(args.spacing)
+    check_outputs(("--out", args.out, "json"), inputs=(args.file,), force=args.force)
     heights = read_measurement(args.file, kind=args.kind, spacing=args.spacing,
                                channel=args.channel, unit=args.unit)
+    for note in heights.notes:
+        err(f"note: {args.file}: {note}")
     z, spacing, how = mean_profile(heights, args.axis)
     missing = int(np.count_nonzero(np.isnan(z)))
     if missing:

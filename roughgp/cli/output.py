@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import sys
 import textwrap
 from pathlib import Path
@@ -14,7 +15,8 @@ import numpy as np
 from roughgp.metrology.writers import check_write_format
 
 __all__ = ["UsageError", "WIDTH", "err", "show_warning", "wrap", "print_wrapped", "table",
-           "write_json", "check_output", "check_spacing", "check_device", "describe_groove"]
+           "write_json", "check_output", "check_outputs", "add_force_option", "check_spacing",
+           "check_device", "describe_groove"]
 
 WIDTH = 100  # the plain-text tables are laid out for a 100-column terminal
 
@@ -82,6 +84,79 @@ def check_output(path_text: str, option: str = "--out") -> Path:
         return check_write_format(path_text)
     except ValueError as exc:
         raise UsageError(f"{option}: {exc}") from None
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    try:
+        if a.exists() and b.exists():
+            return os.path.samefile(a, b)
+    except OSError:
+        pass
+    return a.resolve() == b.resolve()
+
+
+def _check_writable(path: Path, option: str) -> None:
+    """A usage error unless ``path`` can be written: its folder (or the nearest existing one
+    above it, where it is made) is a writable directory."""
+    if path.exists():
+        if not path.is_file():
+            raise UsageError(f"{option}: {path} exists and is not a file")
+        if not os.access(path, os.W_OK):
+            raise UsageError(f"{option}: {path} is not writable")
+        return
+    folder = path.parent
+    while not folder.exists() and folder != folder.parent:
+        folder = folder.parent
+    if not folder.is_dir():
+        raise UsageError(f"{option}: cannot write {path}: {folder} is not a directory")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise UsageError(f"{option}: cannot write {path}: the directory {folder} is not "
+                         "writable")
+
+
+def check_outputs(*outputs, inputs=(), force=False) -> list:
+    """Check the output files of a command before it computes anything.
+
+    ``outputs``: ``(option, path text or None, kind)``, where ``kind`` is ``"heights"`` (a
+    format of :data:`roughgp.metrology.writers.WRITE_FORMATS`, by the extension) or
+    ``"json"`` (the extension must be ``.json``). A usage error naming the option refuses an
+    output that is one of ``inputs`` (never written over, even with ``--force``), two options
+    naming one file, an existing file without ``force`` (``--force``), an unwritable place.
+    Returns the paths (None for an option not given), in order.
+    """
+    paths, given = [], []
+    for option, text, kind in outputs:
+        if text is None:
+            paths.append(None)
+            continue
+        if kind == "json":
+            path = Path(text)
+            if path.suffix.lower() != ".json":
+                raise UsageError(f"{option}: this command writes JSON: give a file name "
+                                 f"ending in .json, got {text!r}")
+        else:
+            path = check_output(text, option)
+        for source in inputs:
+            if _same_file(path, Path(source)):
+                raise UsageError(f"{option}: {path} is the input file; roughgp never writes "
+                                 "over its input: give another file name")
+        for other, earlier in given:
+            if _same_file(path, earlier):
+                raise UsageError(f"{option} and {other} name the same file {path}: give two "
+                                 "file names")
+        if path.exists() and path.is_file() and not force:
+            raise UsageError(f"{option}: {path} exists; give --force to write over it, or "
+                             "another file name")
+        _check_writable(path, option)
+        given.append((option, path))
+        paths.append(path)
+    return paths
+
+
+def add_force_option(parser) -> None:
+    """``--force``: the option that lets a command write over an existing file."""
+    parser.add_argument("--force", action="store_true",
+                        help="write over existing output files (never over the input)")
 
 
 def check_spacing(spacing, option: str = "--spacing") -> None:

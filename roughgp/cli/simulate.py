@@ -15,7 +15,14 @@ import time
 
 import numpy as np
 
-from roughgp.cli.output import UsageError, check_device, check_output, describe_groove, err
+from roughgp.cli.output import (
+    UsageError,
+    add_force_option,
+    check_device,
+    check_outputs,
+    describe_groove,
+    err,
+)
 from roughgp.metrology.writers import WRITE_FORMATS, write_heights
 
 __all__ = ['MAX_SIMULATE_POINTS', 'add_parser', 'run']
@@ -91,6 +98,7 @@ def add_parser(sub, formatter) -> None:
                         help="random seed (default: a fresh one, printed)")
     common.add_argument("--out", required=True, metavar="FILE",
                         help="output file: " + ", ".join(WRITE_FORMATS))
+    add_force_option(common)
     common.add_argument("--spacing", type=float, default=1.0, metavar="D",
                         help="grid spacing in um (default 1)")
     grooves = argparse.ArgumentParser(add_help=False)
@@ -266,7 +274,7 @@ def run(args) -> int:
     """``roughgp simulate KIND``: draw a surface or a profile and write it to ``--out``."""
     from roughgp.models import surfaces, turned
     shape = _check_shape(args)
-    out = check_output(args.out)
+    out, = check_outputs(("--out", args.out, "heights"), force=args.force)
     if not (math.isfinite(args.spacing) and args.spacing > 0):
         raise UsageError(f"--spacing must be > 0 (um), got {args.spacing!r}")
     seed = args.seed

@@ -7,7 +7,14 @@ from __future__ import annotations
 import argparse
 import math
 
-from roughgp.cli.output import UsageError, check_spacing, print_wrapped, write_json
+from roughgp.cli.output import (
+    UsageError,
+    add_force_option,
+    check_outputs,
+    check_spacing,
+    print_wrapped,
+    write_json,
+)
 from roughgp.metrology.measurement import read_measurement
 from roughgp.metrology.texture_report import filtered_parameters, unit_of
 
@@ -68,7 +75,8 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     x.add_argument("--unfiltered", action="store_true",
                    help="no F-, S- or L-operator: the parameters of the heights as read, "
                         "referred to their mean")
-    x.add_argument("--json", metavar="OUT", help="also write the parameters as JSON")
+    x.add_argument("--json", metavar="OUT", help="also write the parameters as JSON (.json)")
+    add_force_option(x)
     x.set_defaults(func=run)
 
 
@@ -77,6 +85,7 @@ def run(args) -> int:
     check_spacing(args.spacing)
     if args.degree < 1:
         raise UsageError(f"--degree must be >= 1, got {args.degree}")
+    check_outputs(("--json", args.json, "json"), inputs=(args.file,), force=args.force)
     heights = read_measurement(args.file, kind=args.kind, spacing=args.spacing,
                                channel=args.channel, unit=args.unit)
     option = {"auto": "auto", "none": None}
@@ -95,7 +104,7 @@ def run(args) -> int:
                   f"{heights.reader}")
     print_wrapped("operators: " + ("; ".join(report.operators) if report.operators
                                    else "none (unfiltered)"))
-    for note in report.notes:
+    for note in (*heights.notes, *report.notes):
         print_wrapped(f"note: {note}")
     for name, value in report.parameters.items():
         print(f"  {name:<5} {value:>12.5g} {unit_of(name)}".rstrip())
@@ -106,7 +115,8 @@ def run(args) -> int:
                                "spacing_from": heights.spacing_source,
                                "height_unit_from": heights.unit_source,
                                "reader": heights.reader, "standard": report.standard,
-                               "operators": report.operators, "notes": report.notes,
+                               "operators": report.operators,
+                               "notes": [*heights.notes, *report.notes],
                                "parameters": report.parameters,
                                "units": {k: unit_of(k) for k in report.parameters}})
     return 0

@@ -56,6 +56,7 @@ class Measurement:
         unit_source: the unit the file's heights were in and how it was found.
         reader: which reader read the file.
         meta: what the file says besides the heights (creator, instrument, offsets, ...).
+        notes: what the reader did that the user should know (header lines skipped, ...).
     """
 
     z: np.ndarray
@@ -65,6 +66,7 @@ class Measurement:
     reader: str = "roughgp"
     meta: types.MappingProxyType = dataclasses.field(
         default_factory=lambda: types.MappingProxyType({}))
+    notes: tuple = ()
 
     @property
     def kind(self) -> str:
@@ -120,10 +122,38 @@ def _text_header(path: Path) -> tuple[str | None, float | None, list[str]]:
     return kind, spacing, units
 
 
+def _bytes(n: int) -> str:
+    """``n`` bytes in words: ``7.28 TiB``."""
+    unit = max((k for k in range(7) if n >= 1024 ** k), default=0)
+    return f"{n / 1024 ** unit:.3g} {('bytes', 'KiB', 'MiB', 'GiB', 'TiB', 'PiB', 'EiB')[unit]}"
+
+
 def _npy(path: Path, kind: str, spacing):
+    fmt = np.lib.format
     with open(path, "rb") as stream:
         if stream.read(6) != b"\x93NUMPY":
             raise MalformedFileError(f"{path}: not a .npy file (no NumPy header)")
+        stream.seek(0)
+        try:  # the header alone, before any allocation
+            version = fmt.read_magic(stream)
+            read = fmt.read_array_header_1_0 if version == (1, 0) else fmt.read_array_header_2_0
+            shape, _, dtype = read(stream)
+        except Exception as exc:  # truncated or malformed headers raise many kinds of errors
+            raise MalformedFileError(f"{path}: not a readable .npy header "
+                                     f"({type(exc).__name__}: {exc})") from None
+        data_start = stream.tell()
+    if dtype.hasobject:
+        raise MalformedFileError(f"{path}: holds Python objects (a pickle), not numbers: "
+                                 "refused (roughgp never unpickles a file)")
+    points = math.prod(shape)
+    if points > readers.MAX_POINTS:
+        raise MalformedFileError(f"{path}: declares an array of shape {shape} = {points:.3g} "
+                                 f"points ({_bytes(points * dtype.itemsize)}), more "
+                                 f"than MAX_POINTS = {readers.MAX_POINTS}")
+    if path.stat().st_size - data_start < points * dtype.itemsize:
+        raise MalformedFileError(f"{path}: truncated: the header declares {shape} of {dtype} "
+                                 f"({points * dtype.itemsize} bytes), the file holds "
+                                 f"{path.stat().st_size - data_start}")
     try:
         z = np.load(path, allow_pickle=False)
     except (ValueError, OSError, EOFError) as exc:
@@ -146,11 +176,44 @@ def _height_map(hm, spacing, source, unit_source, reader):
     return Measurement(hm.z, tuple(hm.spacing), source, unit_source, reader, hm.meta)
 
 
+def _is_xyz_list(table: np.ndarray) -> bool:
+    """Whether a 3-column table is a list of x y z points: its first two columns take few
+    distinct values, each (x, y) pair once, covering at least half of their grid."""
+    if table.ndim != 2 or table.shape[1] != 3 or table.shape[0] < 4:
+        return False
+    xy = table[:, :2]
+    if not np.all(np.isfinite(xy)):
+        return False
+    nx, ny = (np.unique(xy[:, k]).size for k in (0, 1))
+    pairs = np.unique(xy, axis=0).shape[0]
+    return nx >= 2 and ny >= 2 and pairs == table.shape[0] and nx * ny <= 2 * table.shape[0]
+
+
 def _text(path: Path, kind: str, spacing) -> Measurement:
     header_kind, header_spacing, units = _text_header(path)
-    table, _ = readers.read_surface(path, spacing=1.0)
+    table, _, skipped = readers.read_surface(path, spacing=1.0, return_header=True)
+    notes = tuple(f"header line {n} skipped: {text[:60]!r}" for n, text in skipped)
+    columns = table.shape[1]
+    if header_kind is None and kind != "profile" and _is_xyz_list(table):
+        z, (dy, dx) = readers.read_xyz(path)
+        notes += (f"read as x y z points (3 columns whose x and y lie on a {z.shape[0]} x "
+                  f"{z.shape[1]} grid)",)
+        if spacing is not None:
+            return Measurement(z, (spacing, spacing), _GIVEN + ", not the file's",
+                               reader="roughgp xyz (by content)", notes=notes)
+        return Measurement(z, (dy, dx), "from the x y positions",
+                           reader="roughgp xyz (by content)", notes=notes)
+    if kind == "profile" and columns > 2:
+        raise MalformedFileError(f"{path}: has {columns} columns; a profile is 1 column "
+                                 "(heights) or 2 (x, z): read it as a surface (kind "
+                                 "'surface' or 'auto')")
+    if kind == "auto" and header_kind is None and columns == 3:
+        raise MalformedFileError(f"{path}: 3 columns that are neither a profile nor x y z points "
+                                 "on a grid (the x and y columns do not form a grid): ambiguous; "
+                                 "read it as a height grid 3 points wide with kind 'surface' "
+                                 "(--kind surface)")
     if kind == "auto":
-        kind = header_kind or ("profile" if table.shape[1] <= 2 else "surface")
+        kind = header_kind or ("profile" if columns <= 2 else "surface")
     if spacing is not None:
         step, source = spacing, _GIVEN
     elif header_spacing is not None:
@@ -158,10 +221,11 @@ def _text(path: Path, kind: str, spacing) -> Measurement:
     else:
         step, source = 1.0, "assumed: the file states none; give --spacing"
     if kind == "surface":
-        return Measurement(table, (step, step), source, reader="roughgp text grid")
-    if table.shape[1] == 1:  # heights only
+        return Measurement(table, (step, step), source, reader="roughgp text grid",
+                           notes=notes)
+    if columns == 1:  # heights only
         _, z = readers.read_profile(path, spacing=step)
-        return Measurement(z, (step,), source, reader="roughgp text profile")
+        return Measurement(z, (step,), source, reader="roughgp text profile", notes=notes)
     x_unit = units[0] if units else None
     z_unit = units[1] if len(units) > 1 else None
     scales = (UM_PER_UNIT[x_unit] if x_unit else 1.0, UM_PER_UNIT[z_unit] if z_unit else 1.0)
@@ -175,7 +239,7 @@ def _text(path: Path, kind: str, spacing) -> Measurement:
         if residual > 1e-6 * step:
             source += (f": x printed rounded, on the grid within {residual:.3g} um (the "
                        "printed digits' rounding)")
-    return Measurement(z, (step,), source, unit_source, "roughgp text profile")
+    return Measurement(z, (step,), source, unit_source, "roughgp text profile", notes=notes)
 
 
 def read_measurement(path, *, kind: str = "auto", spacing: float | None = None,

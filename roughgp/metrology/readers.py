@@ -10,8 +10,11 @@ that was not measured; it is allowed in heights, never in positions or spacings.
 Text files: blank lines and lines starting with ``#``, ``%`` or ``//`` are skipped anywhere;
 with ``skiprows="auto"`` the non-numeric lines before the first numeric one (a header) are
 skipped too, and a non-numeric line after it is an error. ``delimiter=None`` splits on commas,
-semicolons, tabs and spaces (one trailing delimiter on a line is ignored); decimal commas are
-not supported. A height written as ``nan``, ``NA`` or an empty field (explicit delimiter) is a
+semicolons, tabs and spaces (one trailing delimiter on a line is ignored), except in a file whose
+first line (header or data) holds a semicolon: then ``;`` is the delimiter and a comma in a
+number is its decimal comma (``0,5;1,25``: the European CSV), never a column break. A line is a
+header only when it holds a word (``x_um,z_um``, ``Profile 1``); a line of malformed numbers
+(``0,1.2.5``) or with a NUL byte is an error, not a header. A height written as ``nan``, ``NA`` or an empty field (explicit delimiter) is a
 missing point. Printed x positions are rounded: :func:`profile_step` accepts a grid whose
 residuals stay within the rounding of the printed digits.
 
@@ -81,10 +84,25 @@ def _last_digit_unit(token: str) -> float:
     return 10.0 ** (int(m.group(3) or 0) - len(m.group(2) or ""))
 
 
-def _read_table(path, *, delimiter=None, skiprows="auto", units_of=None):
+_WORD = re.compile(r"[A-Za-z_\u00b5\u03bc]")
+
+
+def _is_header(tokens) -> bool:
+    """A header line holds a word: a token with a letter that is no number, nor a missing mark."""
+    for token in tokens:
+        try:
+            _token(token)
+        except ValueError:
+            if _WORD.search(token):
+                return True
+    return False
+
+
+def _read_table(path, *, delimiter=None, skiprows="auto", units_of=None, header=None):
     """Parse a numeric text table: returns ``(values, lines)``, the values as a float64 array
     of shape (rows, columns) and the 1-based line number of each row; with ``units_of`` (a
-    column index) also the unit of the last printed digit of that column, per row."""
+    column index) also the unit of the last printed digit of that column, per row. ``header``:
+    a list that receives ``(line number, text)`` of each header line skipped."""
     if skiprows != "auto" and not (isinstance(skiprows, (int, np.integer))
                                    and not isinstance(skiprows, bool) and skiprows >= 0):
         raise ValueError(f"skiprows must be 'auto' or an integer >= 0, got {skiprows!r}")
@@ -92,7 +110,12 @@ def _read_table(path, *, delimiter=None, skiprows="auto", units_of=None):
         raise ValueError(f"delimiter must be None (commas, semicolons, tabs or spaces) or a "
                          f"non-empty string such as ',' or '\\t', got {delimiter!r}")
 
+    semicolons = None  # decided on the first line: ";" separators with decimal commas
+
     def split(line):
+        if delimiter is None and semicolons:
+            line = line.strip().rstrip(";")
+            return [t.strip().replace(",", ".") for t in line.split(";")]
         if delimiter is None:
             line = line.rstrip(",;")
             return _AUTO_SPLIT.split(line.strip()) if line.strip() else []
@@ -109,16 +132,23 @@ def _read_table(path, *, delimiter=None, skiprows="auto", units_of=None):
             line = raw.strip()
             if not line or line.startswith(_COMMENT):
                 continue
+            shown = repr(line if len(line) <= 60 else line[:57] + "...")
+            if "\x00" in line:
+                raise _bad(path, f"a NUL byte in the line {shown} (a binary or damaged file)",
+                           number)
+            if semicolons is None:
+                semicolons = ";" in line
             tokens = split(raw.rstrip("\r\n"))
             try:
                 row = [_token(t) for t in tokens]
             except ValueError:
-                if skiprows == "auto" and not lines:
+                if skiprows == "auto" and not lines and _is_header(tokens):
+                    if header is not None:
+                        header.append((number, line))
                     continue  # a header line before the first numeric line
-                shown = line if len(line) <= 60 else line[:57] + "..."
-                raise _bad(path, f"not a row of numbers: {shown!r} (header lines are only "
-                                 "allowed before the data; see skiprows, delimiter)",
-                           number) from None
+                raise _bad(path, f"not a row of numbers: {shown} (header lines, which hold a "
+                                 "word, are only allowed before the data; see skiprows, "
+                                 "delimiter)", number) from None
             if width is None:
                 width = len(row)
             elif len(row) != width:
@@ -268,7 +298,8 @@ def profile_step(x, digit_units=None, *, path="x"):
     return float(dx), float(residual.max())
 
 
-def read_surface(path, *, spacing, delimiter=None, skiprows="auto", unit_scale=1.0):
+def read_surface(path, *, spacing, delimiter=None, skiprows="auto", unit_scale=1.0,
+                 return_header=False):
     """Read a grid of heights from a text / CSV file: row ``iy`` of the data holds
     ``z[iy, 0], z[iy, 1], ...`` (rows are y, columns x).
 
@@ -277,10 +308,11 @@ def read_surface(path, *, spacing, delimiter=None, skiprows="auto", unit_scale=1
         spacing: scalar or ``(dy, dx)`` in array order, > 0, in the output unit.
         delimiter, skiprows: see the module docstring.
         unit_scale: > 0, a factor applied to the heights read.
+        return_header: also return the header lines skipped, as ``(line number, text)``.
 
     Returns:
         ``(z, spacing)``: ``z[iy, ix]`` float64 of shape (ny, nx) (NaN: missing points)
-        and ``spacing`` as a tuple ``(dy, dx)`` of floats.
+        and ``spacing`` as a tuple ``(dy, dx)`` of floats (and the header lines).
 
     Raises:
         MalformedFileError: naming the file and line: non-numeric data, rows of different
@@ -289,12 +321,14 @@ def read_surface(path, *, spacing, delimiter=None, skiprows="auto", unit_scale=1
     """
     unit_scale = _scale("unit_scale", unit_scale)
     _, spacing = normalize((1, 1), spacing)
-    z, lines = _read_table(path, delimiter=delimiter, skiprows=skiprows)
+    header = []
+    z, lines = _read_table(path, delimiter=delimiter, skiprows=skiprows, header=header)
     if z.size > MAX_POINTS:
         raise _bad(path, f"{z.shape[0]} x {z.shape[1]} points exceed MAX_POINTS = {MAX_POINTS}")
     z *= unit_scale
     _check_heights(path, z, lines)
-    return z, (float(spacing[0]), float(spacing[1]))
+    spacing = (float(spacing[0]), float(spacing[1]))
+    return (z, spacing, header) if return_header else (z, spacing)
 
 
 def _grid_axis(path, name, values, lines):

@@ -33,28 +33,55 @@ def check_write_format(path) -> Path:
     return path
 
 
-def write_heights(path, z: np.ndarray, spacing, comment: str) -> None:
+def _kept(source) -> dict:
+    """What an input file said that an output keeps: offset, creator, comment (None if not)."""
+    source = source or {}
+    offset = source.get("offset")
+    if offset is not None and (len(offset) != 3 or not np.all(np.isfinite(offset))):
+        offset = None
+    return {"offset": None if offset is None else tuple(float(v) for v in offset),
+            "creator": source.get("creator") or None, "comment": source.get("comment") or None}
+
+
+def write_heights(path, z: np.ndarray, spacing, comment: str, *, source=None) -> None:
     """Write heights ``z`` (µm; ``z[ix]`` or ``z[iy, ix]``) with ``spacing`` (µm) in the format
-    of the extension (:data:`WRITE_FORMATS`); ``comment`` goes into the file's header."""
+    of the extension (:data:`WRITE_FORMATS`); ``comment`` (what was done: the command and the
+    operators applied) goes into the file's header.
+
+    ``source``: the ``meta`` of the input (:class:`roughgp.metrology.measurement.Measurement`),
+    whose offsets (x, y, z of the first point, µm), creator and comment the file keeps: in the
+    x3p's own fields (axis offsets, ``Creator``; the input's comment after ``comment``), as
+    ``#`` lines of a ``.csv``; a ``.npy`` holds the heights alone.
+    """
     path = check_write_format(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     ext = path.suffix.lower()
+    kept = _kept(source)
+    if kept["comment"]:
+        comment = f"{comment}; the input's comment: {kept['comment']}"
     if ext == ".npy":
         np.save(path, z)
-    elif ext == ".x3p":
-        write_x3p(path, z, spacing, comment=comment)
-    elif z.ndim == 1:  # the (x, z) columns that readers.read_profile reads
-        with open(path, "w", encoding="utf-8", newline="\n") as out:
-            out.write(f"# roughgp profile: x and z in micrometres ({comment})\n"
+        return
+    if ext == ".x3p":
+        write_x3p(path, z, spacing, comment=comment, creator=kept["creator"],
+                  offset=kept["offset"])
+        return
+    lines = "".join(f"# {name}: {value}\n" for name, value in (
+        ("creator", kept["creator"]),
+        ("offset_um", None if kept["offset"] is None else " ".join(map(repr, kept["offset"]))))
+        if value is not None)
+    comment = " ".join(comment.split())  # one line
+    spacing = float(spacing) if np.ndim(spacing) == 0 else spacing
+    with open(path, "w", encoding="utf-8", newline="\n") as out:
+        if z.ndim == 1:  # the (x, z) columns that readers.read_profile reads
+            out.write(f"# roughgp profile: x and z in micrometres ({comment})\n{lines}"
                       f"# spacing_um: {spacing!r}\n"
                       "x_um,z_um\n")
             np.savetxt(out, np.column_stack((np.arange(z.size) * spacing, z)),
                        fmt="%.12g", delimiter=",")
-    else:  # one row per y, columns x: what readers.read_surface reads
-        with open(path, "w", encoding="utf-8", newline="\n") as out:
+        else:  # one row per y, columns x: what readers.read_surface reads
             out.write(f"# roughgp surface: z[iy, ix] in micrometres, one row per y "
-                      f"({comment})\n"
+                      f"({comment})\n{lines}"
                       f"# spacing_um: {spacing!r}\n"
                       f"# shape: {z.shape[0]} {z.shape[1]}\n")
             np.savetxt(out, z, fmt="%.12g", delimiter=",")
-

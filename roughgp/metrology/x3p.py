@@ -8,7 +8,8 @@ declared sizes before any allocation, the MD5 checksums where the file has them,
 data types of the standard (``I`` int16, ``L`` int32, ``F`` float32, ``D`` float64, with the
 z axis' increment applied as x3pio applies it, and the valid-points mask of integer data). Axis offsets are the
 placement of the first point and go to ``meta["offset"]``, as on the x3pio path. Invalid
-points are NaN. :func:`write_x3p` writes through x3pio.
+points are NaN. :func:`write_x3p` writes through x3pio, in the revision that SurfaceTopography,
+surfalize and x3pio all read (:data:`WRITE_REVISION`).
 
 Layout: a surface is ``z[iy, ix]`` (the data file runs x fastest), spacing ``(dy, dx)``.
 """
@@ -28,7 +29,7 @@ import numpy as np
 from roughgp.common.grid import normalize
 from roughgp.metrology.readers import MAX_POINTS, MalformedFileError
 
-__all__ = ["MAX_XML_BYTES", "HeightMap", "read_x3p", "write_x3p"]
+__all__ = ["MAX_XML_BYTES", "LATERAL_RANGE", "Z_RANGE", "WRITE_REVISION", "HeightMap", "read_x3p", "write_x3p"]
 
 #: Largest uncompressed ``main.xml`` of an x3p file that is parsed (256 MiB).
 MAX_XML_BYTES = 2 ** 28
@@ -84,6 +85,35 @@ def _check_container(path):
                              f"MAX_XML_BYTES = {MAX_XML_BYTES}")
 
 
+#: The lateral increments read, metres: 1 pm to 1 m a step (beyond them: a damaged file).
+LATERAL_RANGE = (1e-12, 1.0)
+#: The z increments read, metres per stored unit (1 for float data, ~1e-9 for integers).
+Z_RANGE = (1e-18, 1e3)
+
+
+def _check_scales(path, lateral, z_scale, z_offset=0.0):
+    """Refuse increments outside :data:`LATERAL_RANGE` / :data:`Z_RANGE` (1e300, 1e-320, 0)."""
+    for name, d in lateral:
+        if not (math.isfinite(d) and LATERAL_RANGE[0] <= abs(d) <= LATERAL_RANGE[1]):
+            raise _bad(path, f"the {name} increment {float(d)!r} m is not a usable step: "
+                             f"roughgp reads |increment| from {LATERAL_RANGE[0]:g} to "
+                             f"{LATERAL_RANGE[1]:g} m")
+    if not (math.isfinite(z_scale) and Z_RANGE[0] <= abs(z_scale) <= Z_RANGE[1]):
+        raise _bad(path, f"the z increment {float(z_scale)!r} is not a usable height scale: "
+                         f"roughgp reads |increment| from {Z_RANGE[0]:g} to {Z_RANGE[1]:g} "
+                         "m per stored unit")
+    if not (math.isfinite(z_offset) and abs(z_offset) <= 1e3):
+        raise _bad(path, f"the z offset {float(z_offset)!r} m is not finite and at most 1e3 m")
+
+
+def _check_rotation(path, rotation):
+    """Refuse a Record1 rotation other than the identity (the grid would not be z[iy, ix])."""
+    if rotation is not None and not np.allclose(rotation, np.eye(3), rtol=0, atol=1e-9):
+        rows = "; ".join(" ".join(f"{v:.6g}" for v in row) for row in np.asarray(rotation))
+        raise _bad(path, f"Record1 rotates the data (Axes/Rotation = [{rows}], not the "
+                         "identity): roughgp reads unrotated grids only")
+
+
 def _text(value):
     return None if value is None else str(value)
 
@@ -120,10 +150,15 @@ def read_x3p(path, *, layer=0) -> HeightMap:
     try:
         info = x3pio.info(path)
     except x3pio.X3pChecksumError as error:
-        raise _bad(path, f"not a valid x3p file: {error}") from None
+        if not _checksum_of_another_member(path):
+            raise _bad(path, f"not a valid x3p file: {error}") from None
+        # SurfaceTopography 1.27 writes the data's MD5 (``HASH *bindata/data.bin``) into
+        # md5checksum.hex: it names the member it checks, and that member matches
+        return _read_lenient(path, layer, why="md5checksum.hex holds the checksum of the "
+                                              "data, not of main.xml")
     except x3pio.X3pFormatError as error:  # the form (a top folder, no namespace): lenient
         try:
-            return _read_lenient(path, layer)
+            return _read_lenient(path, layer, why=None)
         except MalformedFileError as lenient:
             raise _bad(path, f"not a valid x3p file: {error}; read leniently: "
                              f"{str(lenient).split(': ', 1)[-1]}") from None
@@ -139,9 +174,13 @@ def read_x3p(path, *, layer=0) -> HeightMap:
         if not axis.is_incremental:
             raise _bad(path, f"the {name} axis is absolute (irregular positions): only "
                              "regular grids are read")
-        if not (math.isfinite(axis.increment) and axis.increment != 0):
-            raise _bad(path, f"the {name} increment {axis.increment!r} is not finite and "
-                             "non-zero")
+    _check_scales(path, [(name, axis.increment) for name, axis in axes],
+                  header.z.increment, float(info.placement.offset[2]))
+    _check_rotation(path, info.placement.rotation)
+    if min(info.shape, default=0) < 1:
+        sizes = ("SizeY", "SizeX") if kind == "SURFACE" else ("SizeX",)
+        raise _bad(path, "declares an empty matrix (" + ", ".join(
+            f"{n} = {v}" for n, v in zip(sizes, info.shape)) + ")")
     points = math.prod(info.shape) * info.layer_count
     if points > MAX_POINTS:
         shape = " x ".join(str(n) for n in info.shape)
@@ -186,17 +225,28 @@ def read_x3p(path, *, layer=0) -> HeightMap:
                      types.MappingProxyType(meta))
 
 
-def write_x3p(path, z, spacing, *, comment=None) -> None:
+#: The ``Revision`` that :func:`write_x3p` writes: ISO 25178-72:2017 under its openGPS name,
+#: the one SurfaceTopography 1.27 requires and surfalize and x3pio read too (the newer
+#: ``ISO25178-72:2017/DAM1`` of Amd 1:2020, x3pio's default, is refused by SurfaceTopography).
+WRITE_REVISION = "ISO5436 - 2000"
+
+
+def write_x3p(path, z, spacing, *, comment=None, creator=None, offset=None) -> None:
     """Write a profile ``z[ix]`` or a surface ``z[iy, ix]`` to an ISO 25178-72 ``.x3p`` file.
 
     The layout is that of :func:`read_x3p`: heights and ``spacing`` (scalar or array order,
     ``(dy, dx)``) in micrometres; they are stored in metres (times 1e-6) as float64 with
     x3pio's documented ``x3pio.write``, so ``read_x3p`` gives them back to float rounding.
-    NaN marks a missing point; infinite heights are refused. ``Record2`` names roughgp as
-    the software (x3p's record of data not measured), with ``comment`` if given.
+    The file follows :data:`WRITE_REVISION` (read by SurfaceTopography, surfalize and x3pio),
+    with the MD5 checksums of ``main.xml`` and of the data. NaN marks a missing point;
+    infinite heights are refused. ``Record2`` names roughgp as the software (x3p's record of
+    data not measured), with ``creator`` and ``comment`` if given; ``offset`` (x, y, z in
+    micrometres, as ``read_x3p``'s ``meta["offset"]``) places the first point, as the axes'
+    offsets of the input file did.
 
     Raises:
-        ValueError: ``z`` not 1-D / 2-D or holding infinite values, or a bad ``spacing``.
+        ValueError: ``z`` not 1-D / 2-D or holding infinite values, a bad ``spacing`` or a
+            non-finite ``offset``.
     """
     x3pio = _x3pio()
     arr = np.asarray(z, dtype=np.float64)
@@ -209,7 +259,15 @@ def write_x3p(path, z, spacing, *, comment=None) -> None:
     from roughgp import __version__
     metadata = x3pio.Metadata.for_software("roughgp", __version__)
     metadata.comment = None if comment is None else str(comment)
-    options = {"metadata": metadata}
+    metadata.creator = None if creator is None else str(creator)
+    options = {"metadata": metadata, "revision": x3pio.Revision(WRITE_REVISION)}
+    if offset is not None:
+        shift = np.asarray(offset, dtype=np.float64).reshape(-1)
+        if shift.shape != (3,) or not np.all(np.isfinite(shift)):
+            raise ValueError(f"offset must be three finite numbers (x, y, z in um), got "
+                             f"{offset!r}")
+        options.update(placement=x3pio.Placement(offset=shift / _UM_PER_M),
+                       coordinate_system=x3pio.CoordinateSystem.VIEW)
     heights = arr / _UM_PER_M
     if arr.ndim == 1:
         x3pio.write(path, heights, x_scale=float(spacing[0]) / _UM_PER_M, **options)
@@ -271,7 +329,31 @@ def _checked_bytes(path, archive, info, expected_md5, what, limit):
     return data
 
 
-def _read_lenient(path, layer=0) -> HeightMap:
+def _stated_checksum(archive, root_dir):
+    """``(md5, member name)`` from md5checksum.hex (``HASH *name``; no name: main.xml), or
+    None where the archive has no (small) checksum file."""
+    checksum_file = _member(archive, root_dir, "md5checksum.hex")
+    if checksum_file is None or checksum_file.file_size >= 4096:
+        return None
+    stated = archive.read(checksum_file).decode("ascii", "replace").split()
+    if not stated:
+        return None
+    return stated[0].lower(), (stated[1].lstrip("*") if len(stated) > 1 else "main.xml")
+
+
+def _checksum_of_another_member(path) -> bool:
+    """Whether md5checksum.hex names a member other than main.xml, whose MD5 it matches."""
+    with zipfile.ZipFile(path) as archive:
+        stated = _stated_checksum(archive, "")
+        if stated is None or posixpath.basename(stated[1]) == "main.xml":
+            return False
+        info = _member(archive, "", stated[1])
+        if info is None or info.file_size > MAX_POINTS * 8:
+            return False
+        return hashlib.md5(archive.read(info)).hexdigest().lower() == stated[0]
+
+
+def _read_lenient(path, layer=0, why=None) -> HeightMap:
     """Read an x3p file that x3pio refuses for its form (module docstring)."""
     from defusedxml import ElementTree
 
@@ -288,11 +370,10 @@ def _read_lenient(path, layer=0) -> HeightMap:
         main = mains[0]
         root_dir = posixpath.dirname(main.filename.replace("\\", "/"))
         xml = archive.read(main)
-        checksum_file = _member(archive, root_dir, "md5checksum.hex")
-        if checksum_file is not None and checksum_file.file_size < 4096:
-            stated = archive.read(checksum_file).decode("ascii", "replace").split()
-            if stated and hashlib.md5(xml).hexdigest().lower() != stated[0].lower():
-                raise _bad(path, "the MD5 checksum of main.xml does not match md5checksum.hex")
+        stated = _stated_checksum(archive, root_dir)
+        if stated is not None and posixpath.basename(stated[1]) == "main.xml" \
+                and hashlib.md5(xml).hexdigest().lower() != stated[0]:
+            raise _bad(path, "the MD5 checksum of main.xml does not match md5checksum.hex")
         try:
             doc = ElementTree.fromstring(xml)
         except Exception as error:  # defusedxml's refusals and XML syntax errors
@@ -313,22 +394,21 @@ def _read_lenient(path, layer=0) -> HeightMap:
                                  "positions): only regular grids are read")
         dx = _number(path, axes, ("CX", "Increment"))
         dy = _number(path, axes, ("CY", "Increment"), default=dx) if kind == "SUR" else dx
-        for name, d in (("x", dx), ("y", dy)):
-            if not (math.isfinite(d) and d != 0 and abs(d) * _UM_PER_M > 1e-12):
-                raise _bad(path, f"the {name} increment {d!r} is not a finite, non-zero step")
         dtype = (_value(axes, "CZ", "DataType") or "D").upper()
         if dtype not in _DTYPES:
             raise _bad(path, f"z data type {dtype!r} is not one of I, L, F, D")
         z_scale = _number(path, axes, ("CZ", "Increment"), default=1.0)
         z_offset = _number(path, axes, ("CZ", "Offset"), default=0.0)
-        if not (math.isfinite(z_scale) and z_scale != 0 and abs(z_scale) < 1e100
-                and math.isfinite(z_offset) and abs(z_offset) < 1e100):
-            raise _bad(path, f"the z increment {z_scale!r} / offset {z_offset!r} is not "
-                             "a usable scale (finite, non-zero, below 1e100)")
+        _check_scales(path, (("x", dx), ("y", dy)), z_scale, z_offset)
+        rotation = _find(axes, "Rotation")
+        if rotation is not None:
+            _check_rotation(path, [[_number(path, rotation, (f"r{i}{j}",), default=float(i == j))
+                                    for j in (1, 2, 3)] for i in (1, 2, 3)])
         size = [int(_number(path, r3, ("MatrixDimension", n), default=1.0))
                 for n in ("SizeX", "SizeY", "SizeZ")]
         if min(size) < 1:
-            raise _bad(path, f"declares an empty matrix (SizeX, SizeY, SizeZ = {size})")
+            raise _bad(path, "declares an empty matrix (" + ", ".join(
+                f"{n} = {v}" for n, v in zip(("SizeX", "SizeY", "SizeZ"), size)) + ")")
         points = math.prod(size)
         if points > MAX_POINTS:
             raise _bad(path, f"declares {size[2]} layer(s) of {size[1]} x {size[0]} = "
@@ -382,7 +462,7 @@ def _read_lenient(path, layer=0) -> HeightMap:
                                                    for n in ("Type", "Identification")) if v)
             or None,
             "comment": _value(r2, "Comment"),
-            "reader": "lenient (not read by x3pio: "
-                      + ("a top folder in the zip" if root_dir else "its form") + ")",
+            "reader": "lenient (not read by x3pio: " + (
+                why or ("a top folder in the zip" if root_dir else "its form")) + ")",
         }
     return HeightMap(np.ascontiguousarray(z), spacing, "um", types.MappingProxyType(meta))

@@ -156,7 +156,7 @@ def test_x3p_valid_points_mask_and_damaged_data(tmp_path):
 
 def test_format_detection_by_content(tmp_path):
     text_dat = tmp_path / "heights.dat"
-    text_dat.write_text("1 2 3\n4 5 6\n7 8 9\n")
+    text_dat.write_text("1 2 3 4\n5 6 7 8\n9 10 11 12\n")   # (3 columns: ambiguous, refused)
     assert read_measurement(text_dat).reader == "roughgp text grid"
     binary_txt = tmp_path / "binary.txt"
     binary_txt.write_bytes(b"\x00\x01\x02garbage" * 100)
