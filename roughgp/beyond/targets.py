@@ -66,7 +66,7 @@ import numpy as np
 
 from roughgp.common.checks import check_nonnegative
 from roughgp.common.grid import normalize
-from roughgp.metrology import texture
+from roughgp.metrology import texture, texture_heights
 from roughgp.models import surfaces
 from roughgp.models.surfaces import GrooveParameters
 from roughgp.sampling import diagnostics
@@ -278,7 +278,7 @@ def measure(z, spacing=1.0) -> dict:
     """Sq, Sal, Str and Std of a surface (:mod:`roughgp.metrology.texture`, heights referred to the
     mean); Sal and Str are NaN where the ACF does not decay to 0.2 within the field."""
     z = np.asarray(z, dtype=np.float64)
-    out = {"Sq": texture.height_parameters(z)["Sq"]}
+    out = {"Sq": texture_heights.height_parameters(z)["Sq"]}
     out.update(texture.spatial_parameters(z, spacing, undefined="nan"))
     out["Std"] = texture.texture_direction(z, spacing, undefined="nan")
     return out
