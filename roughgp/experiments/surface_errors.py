@@ -7,7 +7,8 @@ the unbiased sample covariance of the draws: :math:`2.763 \cdot 10^{-1}` with La
 returning a result object:
 
 * :func:`error_setup` (cached): the kernel of eq 18, :math:`\mathbf R` on the grid, and what an
-  exact sampler gives in expectation (:func:`roughgp.sampling.diagnostics.expected_covariance_error`);
+  exact sampler gives in expectation
+  (:func:`roughgp.sampling.diagnostics.expected_covariance_error`);
 * :func:`paper_readings`: the expected error under readings of the setup that the paper's value
   might come from (unit variance, the noise of eq 8 included, more draws, a smaller variance);
 * :func:`cholesky_errors`, :func:`lanczos_error`, :func:`circulant_error`: one experiment per
@@ -125,7 +126,7 @@ def _cached_setup(parameters, shape, n_draws):
 
 def paper_readings(setup: ErrorSetup, noise_variance: float = NOISE_VARIANCE) -> PaperReadings:
     """The exact sampler's expected error under readings of the setup (:class:`PaperReadings`)."""
-    p, paper = setup.parameters, PAPER_ERROR["cholesky"]
+    p = setup.parameters
     unit = surfaces.GrooveParameters(1.0, p.lengthscales, p.angle)
     with_noise = grid_covariance(unit.kernel(), setup.shape)
     with_noise[np.diag_indices_from(with_noise)] += noise_variance
