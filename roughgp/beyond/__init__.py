@@ -2,7 +2,9 @@
 
 Modules: :mod:`~roughgp.beyond.non_gaussian` (heights with a prescribed skewness and
 kurtosis: the Johnson system and a pre-distorted ACVF), :mod:`~roughgp.beyond.targets`
-(ground surfaces with prescribed Sq, Sal, Str, Std), :mod:`~roughgp.beyond.gap_filling`
+(prescribed Sq, Sal, Str, Std: the closed form both ways, measuring drawn surfaces) and
+:mod:`~roughgp.beyond.prescribed` (its calibration on a finite field; drawing the surfaces),
+:mod:`~roughgp.beyond.gap_filling`
 (unmeasured points filled with the GP posterior mean and sd).
 
 May import: everything below it: :mod:`roughgp.common`, :mod:`roughgp.gp`,

@@ -46,9 +46,13 @@ crossing is :math:`0.2/\lambda_b` with :math:`\lambda_b = S_{al}/\ln(5c)` large.
 Sal is a minimum and the longest decay length a maximum over many noisy directions; a
 field only a few :math:`\lambda_a` long holds few independent grooves (and Str may not be
 defined on it); and a Sal of a few grid spacings is read off an ACF interpolated between
-the grid's lags, which makes it too long. :func:`calibrate` removes the mean bias by
-simulation: a few multiplicative fixed-point corrections of the targets fed to the closed
-form, on the mean over a set of seeds.
+the grid's lags, which makes it too long. :func:`roughgp.beyond.prescribed.calibrate`
+removes the mean bias by simulation: a few multiplicative fixed-point corrections of the
+targets fed to the closed form, on the mean over a set of seeds.
+
+This module holds the closed form both ways and the measuring of drawn surfaces;
+:mod:`roughgp.beyond.prescribed` calibrates the closed form on a finite field and draws
+surfaces with prescribed parameters (:func:`~roughgp.beyond.prescribed.simulate_with_targets`).
 
 Units: lengths in the unit of ``spacing`` (the CLI: um), heights in that of ``Sq``, angles
 in degrees for ``Std`` and radians for the hyperparameter ``angle`` (as in
@@ -66,7 +70,7 @@ import numpy as np
 
 from roughgp.common.checks import check_nonnegative
 from roughgp.common.grid import normalize
-from roughgp.metrology import texture
+from roughgp.metrology import texture, texture_heights
 from roughgp.models import surfaces
 from roughgp.models.surfaces import GrooveParameters
 from roughgp.sampling import diagnostics
@@ -74,8 +78,8 @@ from roughgp.sampling import diagnostics
 __all__ = ["TARGET_NAMES", "MIN_GROOVE_LENGTHS", "RoughnessTargets", "GroundHyperparameters",
            "as_targets", "hyperparameters_for", "predicted_targets", "measure",
            "achieved_parameters", "summarize", "direction_difference", "mean_direction",
-           "sq_prediction", "groove_lengths", "field_warning", "Calibration", "calibrate",
-           "simulate_with_targets"]
+           "fold_direction", "finite_number", "check_spacing", "surface_shape",
+           "sq_prediction", "groove_lengths", "field_warning"]
 
 #: The ISO 25178-2 parameters that can be prescribed, in this order.
 TARGET_NAMES = ("Sq", "Sal", "Str", "Std")
@@ -86,7 +90,7 @@ _RESOLVED = 3.0  # Sal below this many grid spacings is resolved poorly by the A
 MIN_GROOVE_LENGTHS = 5.0
 
 
-def _fold(degrees):
+def fold_direction(degrees):
     """A direction in degrees folded to (-90, 90], the convention of texture_direction."""
     return float(90.0 - np.mod(90.0 - degrees, 180.0))
 
@@ -100,10 +104,11 @@ def mean_direction(angles):
     """Circular mean of directions in degrees (period 180: the mean of the doubled angles),
     folded to (-90, 90]."""
     doubled = np.exp(2j * np.radians(np.asarray(angles, float)))
-    return _fold(math.degrees(np.angle(doubled.mean())) / 2)
+    return fold_direction(math.degrees(np.angle(doubled.mean())) / 2)
 
 
-def _number(name, value):
+def finite_number(name, value):
+    """``value`` as a finite float; errors name ``name``."""
     try:
         value = float(value)
     except (TypeError, ValueError):
@@ -131,7 +136,7 @@ class RoughnessTargets:
     Std: float
 
     def __post_init__(self):
-        values = {name: _number(name, getattr(self, name)) for name in TARGET_NAMES}
+        values = {name: finite_number(name, getattr(self, name)) for name in TARGET_NAMES}
         if values["Sq"] <= 0:
             raise ValueError(f"Sq must be > 0 (allowed range: (0, inf)), got {values['Sq']!r}")
         if values["Sal"] <= 0:
@@ -140,7 +145,7 @@ class RoughnessTargets:
         if not 0 < values["Str"] <= 1:
             raise ValueError(f"Str must be in (0, 1] (allowed range: 0 < Str <= 1; 1 is "
                              f"isotropic), got {values['Str']!r}")
-        values["Std"] = _fold(values["Std"])
+        values["Std"] = fold_direction(values["Std"])
         for name, value in values.items():
             object.__setattr__(self, name, value)
 
@@ -193,7 +198,8 @@ class GroundHyperparameters:
                 "angle": self.angle, "noise_variance": self.noise_variance}
 
 
-def _check_spacing(spacing):
+def check_spacing(spacing):
+    """``spacing`` (scalar or ``(dy, dx)``) as the ``(dy, dx)`` of a surface, checked."""
     _, spacing = normalize((1, 1), spacing)
     return spacing
 
@@ -220,7 +226,8 @@ def hyperparameters_for(Sq, Sal, Str, Std, *, noise_variance=1.0,
             used by the formula, only to warn (``UserWarning``) when Sal is under three
             spacings. There the ACF, interpolated between the grid's lags, is resolved
             poorly and the measured Sal and Str come out long (measured: about +9 % and
-            +13 % at 1.5 spacings, +3 % and +5 % at 2; :func:`calibrate` corrects it).
+            +13 % at 1.5 spacings, +3 % and +5 % at 2;
+            :func:`~roughgp.beyond.prescribed.calibrate` corrects it).
 
     Returns:
         :class:`GroundHyperparameters` with :math:`\lambda_a \ge \lambda_b`.
@@ -228,9 +235,9 @@ def hyperparameters_for(Sq, Sal, Str, Std, *, noise_variance=1.0,
     Raises:
         ValueError: naming the parameter and its allowed range.
     """
-    noise_variance = _number("noise_variance", noise_variance)
+    noise_variance = finite_number("noise_variance", noise_variance)
     check_nonnegative("noise_variance", noise_variance)
-    spacing = _check_spacing(spacing)
+    spacing = check_spacing(spacing)
     t = RoughnessTargets(Sq, Sal, Str, Std)  # finite, Sq > 0, Sal > 0, 0 < Str <= 1
     lowest = math.sqrt(5.0 * noise_variance / 4.0)
     if t.Sq <= lowest:
@@ -272,13 +279,21 @@ def predicted_targets(hyperparameters: GroundHyperparameters) -> RoughnessTarget
                             Std=direction)
 
 
+def surface_shape(shape):
+    """``shape`` as the ``(ny, nx)`` of a surface (an int gives a square)."""
+    shape = (shape,) if np.ndim(shape) == 0 else tuple(shape)
+    if len(shape) != 2:
+        raise ValueError(f"shape must be (ny, nx) for a surface, got {shape!r}")
+    return normalize(shape)[0]
+
+
 # --------------------------------------------------------------------------- measuring
 
 def measure(z, spacing=1.0) -> dict:
     """Sq, Sal, Str and Std of a surface (:mod:`roughgp.metrology.texture`, heights referred to the
     mean); Sal and Str are NaN where the ACF does not decay to 0.2 within the field."""
     z = np.asarray(z, dtype=np.float64)
-    out = {"Sq": texture.height_parameters(z)["Sq"]}
+    out = {"Sq": texture_heights.height_parameters(z)["Sq"]}
     out.update(texture.spatial_parameters(z, spacing, undefined="nan"))
     out["Std"] = texture.texture_direction(z, spacing, undefined="nan")
     return out
@@ -339,7 +354,7 @@ def groove_lengths(hyperparameters: GroundHyperparameters, shape, spacing=1.0) -
     """How many correlation lengths :math:`\lambda_a` (the longer lengthscale) the shorter
     side of the field spans; below :data:`MIN_GROOVE_LENGTHS` the measured Sal and Str are
     biased and Str may be undefined."""
-    shape, spacing = normalize(_shape(shape), spacing)
+    shape, spacing = normalize(surface_shape(shape), spacing)
     extent = min(n * d for n, d in zip(shape, spacing))
     return float(extent / max(hyperparameters.lengthscales))
 
@@ -355,177 +370,3 @@ def field_warning(hyperparameters: GroundHyperparameters, shape, spacing=1.0):
             f"shorter side (fewer than {MIN_GROOVE_LENGTHS:g}): the measured Sal and Str will "
             f"be biased (Sal short) and may be undefined; use a field at least "
             f"{MIN_GROOVE_LENGTHS * lam:.4g} long, or calibrate() for this shape")
-
-
-# --------------------------------------------------------------------------- calibration
-
-@dataclass(frozen=True)
-class Calibration:
-    """The result of :func:`calibrate`.
-
-    Attributes:
-        targets: the prescribed :class:`RoughnessTargets`.
-        shape, spacing, noise_variance: the field and noise it was calibrated for.
-        hyperparameters: the calibrated :class:`GroundHyperparameters`.
-        closed_form: those of :func:`hyperparameters_for` for the targets themselves.
-        history: per round, ``(inputs, means)``: the targets fed to the closed form and the
-            mean measured parameters over ``seeds`` (dicts by name); the last entry's inputs
-            gave ``hyperparameters``, its means are those the round measured (NaN when the
-            last correction was not measured again).
-        seeds: the seeds of the surfaces simulated in every round.
-    """
-
-    targets: RoughnessTargets
-    shape: tuple
-    spacing: object
-    noise_variance: float
-    hyperparameters: GroundHyperparameters
-    closed_form: GroundHyperparameters
-    history: tuple
-    seeds: tuple
-
-
-def _shape(shape):
-    shape = (shape,) if np.ndim(shape) == 0 else tuple(shape)
-    if len(shape) != 2:
-        raise ValueError(f"shape must be (ny, nx) for a surface, got {shape!r}")
-    return normalize(shape)[0]
-
-
-def calibrate(targets, shape, *, seeds=range(8), iterations=3, noise_variance=1.0,
-              spacing=1.0, method="auto", correct=("Sq", "Sal", "Str")) -> Calibration:
-    r"""Hyperparameters whose surfaces of ``shape`` hit the targets ON AVERAGE.
-
-    The closed form (:func:`hyperparameters_for`) is exact for an infinite field. On a
-    finite one the estimators are biased (module docstring). Starting from the targets
-    themselves, each round draws one surface per seed with the hyperparameters of the
-    current inputs (eq 18 plus eq 8), measures the mean of each parameter over the seeds,
-    and corrects the inputs: multiplicatively for Sq, Sal and Str
-    (:math:`T_{in} \leftarrow T_{in}\,T/\bar M`, which scales :math:`\sigma_k^2` and the
-    lengthscales :math:`\lambda_b \propto S_{al}`, :math:`\lambda_a \propto S_{al}/S_{tr}`),
-    additively for Std (only when named in ``correct``; for a strong lay its mean was found
-    within about a degree of the target, pulled slightly toward the grid's axes). Str is
-    capped at 1 and Sq kept above the limit :math:`\sqrt{5\sigma^2/4}`.
-    The same seeds are used in every round; they give the same white noise only while the
-    sampler keeps its circulant torus, so the rounds also differ by the luck of the draw.
-
-    Cost: ``iterations`` rounds of ``len(seeds)`` surfaces. The result hits the targets on
-    the mean over THESE seeds, so it is only as precise as that mean: a bias smaller than
-    one surface's sd / sqrt(len(seeds)) cannot be corrected. Judge it on other seeds.
-
-    Args:
-        targets: :class:`RoughnessTargets` or a mapping with the keys Sq, Sal, Str, Std.
-        shape: ``(ny, nx)`` of the surfaces to be drawn.
-        seeds: the seeds of each round's surfaces (at least 2).
-        iterations: number of corrections (rounds), >= 1.
-        noise_variance, spacing: as in :func:`hyperparameters_for`.
-        method: the sampler of :func:`roughgp.models.surfaces.ground`.
-        correct: which parameters to correct (a subset of Sq, Sal, Str, Std).
-
-    Raises:
-        ValueError: bad arguments, or Sal / Str undefined on a surface (the field is too
-            short for the grooves: the message says so).
-    """
-    t = as_targets(targets)
-    shape = _shape(shape)
-    seeds = tuple(seeds)
-    if len(seeds) < 2:
-        raise ValueError(f"seeds must name at least 2 seeds, got {seeds!r}")
-    if isinstance(iterations, bool) or not isinstance(iterations, (int, np.integer)) \
-            or iterations < 1:
-        raise ValueError(f"iterations must be an integer >= 1, got {iterations!r}")
-    unknown = [c for c in correct if c not in TARGET_NAMES]
-    if unknown:
-        raise ValueError(f"correct must name parameters among {', '.join(TARGET_NAMES)}, "
-                         f"got {', '.join(map(repr, unknown))}")
-    noise_variance = _number("noise_variance", noise_variance)
-    closed_form = hyperparameters_for(**t.as_dict(), noise_variance=noise_variance,
-                                      spacing=spacing)
-    inputs = t.as_dict()
-    lowest = math.sqrt(5.0 * noise_variance / 4.0)
-    history = []
-    for _ in range(int(iterations)):
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")  # the resolution warning was given once above
-            hyper = hyperparameters_for(**inputs, noise_variance=noise_variance,
-                                        spacing=spacing)
-        values = achieved_parameters(hyper, shape, seeds=seeds, spacing=spacing,
-                                     method=method)
-        for name in correct:
-            bad = int(np.count_nonzero(np.isnan(values[name])))
-            if bad:
-                raise ValueError(
-                    f"{name} is undefined on {bad} of {len(seeds)} surfaces of shape "
-                    f"{shape}: the ACF does not decay to 0.2 within the field (the decay "
-                    f"length along the grooves is about Sal/Str = {t.Sal / t.Str:.4g}); "
-                    f"use a larger shape, or leave {name} out of correct")
-        means = {name: m for name, (m, _) in summarize(values).items()}
-        history.append((dict(inputs), means))
-        new = dict(inputs)
-        if "Sq" in correct:
-            new["Sq"] = max(inputs["Sq"] * t.Sq / means["Sq"], lowest * (1 + 1e-9))
-        if "Sal" in correct:
-            new["Sal"] = inputs["Sal"] * t.Sal / means["Sal"]
-        if "Str" in correct:
-            new["Str"] = min(1.0, inputs["Str"] * t.Str / means["Str"])
-        if "Std" in correct:
-            new["Std"] = _fold(inputs["Std"] + float(direction_difference(t.Std, means["Std"])))
-        inputs = new
-    history.append((dict(inputs), dict.fromkeys(TARGET_NAMES, math.nan)))
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        final = hyperparameters_for(**inputs, noise_variance=noise_variance, spacing=spacing)
-    return Calibration(targets=t, shape=shape, spacing=spacing, noise_variance=noise_variance,
-                       hyperparameters=final, closed_form=closed_form, history=tuple(history),
-                       seeds=seeds)
-
-
-# --------------------------------------------------------------------------- simulating
-
-def simulate_with_targets(targets, shape, *, seed, spacing=1.0, noise_variance=1.0,
-                          calibration: Calibration | None = None, method="auto"):
-    """A ground surface (eq 18 plus the noise of eq 8, :func:`roughgp.models.surfaces.ground`)
-    whose ISO 25178-2 parameters are ``targets`` (Sq 4.1, Sal 4.2.1, Str 4.2.2, Std 4.5.1).
-
-    Args:
-        targets: :class:`RoughnessTargets` or a mapping with the keys Sq, Sal, Str, Std.
-        shape: ``(ny, nx)``.
-        seed: int, None or ``numpy.random.Generator``; the same seed gives the same surface.
-        spacing: grid spacing, scalar or ``(dy, dx)``, in the unit of Sal.
-        noise_variance: :math:`\\sigma^2` of eq 8 (default 1, the paper's).
-        calibration: a :func:`calibrate` result for the same targets, shape, spacing and
-            noise variance, whose hyperparameters are used; None: the closed form of
-            :func:`hyperparameters_for`, with a ``UserWarning`` when the field spans fewer
-            than :data:`MIN_GROOVE_LENGTHS` correlation lengths :math:`\lambda_a`.
-        method: the sampler of :func:`roughgp.models.surfaces.ground`.
-
-    Returns:
-        ``(z, hyperparameters)``: the surface ``z[iy, ix]`` and the
-        :class:`GroundHyperparameters` it was drawn with.
-    """
-    t = as_targets(targets)
-    shape = _shape(shape)
-    noise_variance = _number("noise_variance", noise_variance)
-    if calibration is None:
-        hyper = hyperparameters_for(**t.as_dict(), noise_variance=noise_variance,
-                                    spacing=spacing)
-    else:
-        if not isinstance(calibration, Calibration):
-            raise ValueError(f"calibration must be a Calibration from calibrate(), got "
-                             f"{type(calibration).__name__}")
-        mismatch = [name for name, mine, theirs in (
-            ("targets", t, calibration.targets), ("shape", shape, calibration.shape),
-            ("noise_variance", noise_variance, calibration.noise_variance),
-            ("spacing", tuple(_check_spacing(spacing)),
-             tuple(_check_spacing(calibration.spacing)))) if mine != theirs]
-        if mismatch:
-            raise ValueError(f"calibration was made for other {', '.join(mismatch)}: "
-                             f"calibrate for these targets, shape, spacing and noise_variance")
-        hyper = calibration.hyperparameters
-    if calibration is None:
-        message = field_warning(hyper, shape, spacing)
-        if message:
-            warnings.warn(message, stacklevel=2)
-    z = surfaces.ground(shape, **hyper.ground_kwargs(), spacing=spacing, seed=seed,
-                        method=method)
-    return z, hyper

@@ -30,7 +30,7 @@ from roughgp import sampling
 from roughgp.beyond import non_gaussian
 from roughgp.common.settings import full_size
 from roughgp.gp import acvf, fourier, kernels
-from roughgp.metrology import spectral, texture
+from roughgp.metrology import spectral, texture_heights
 from roughgp.models import arma
 
 __all__ = ["DualityTable", "kernel_duality_table", "LongCorrelation", "long_correlation",
@@ -238,7 +238,7 @@ def _rms(a, b):
 
 
 def _moments(surfaces, target, variance):
-    params = [texture.height_parameters(z) for z in surfaces]
+    params = [texture_heights.height_parameters(z) for z in surfaces]
     out = {}
     for key, goal in zip(("Ssk", "Sku", "Sq"), (*target, math.sqrt(variance))):
         values = np.array([p[key] for p in params])

@@ -2,8 +2,6 @@ r"""Checks of the claims on ground and honed surfaces (section 3.1, figures 2 an
 
 from __future__ import annotations
 
-import math
-
 from roughgp.common.plotting import row_of_axes
 from roughgp.ledger.types import Check
 
@@ -11,8 +9,6 @@ __all__ = ["check_figure2_simulation", "check_figure2_acvf", "check_error_values
 
 
 # ------------------------------------------------------------------ figure 2, section 3.1
-
-_CACHE: dict = {}
 
 
 def check_figure2_simulation(full):
@@ -41,38 +37,24 @@ def check_figure2_acvf(full):
                  result.largest <= 4)
 
 
-PAPER_ERROR = {"lanczos": 2.763e-1, "cholesky": 2.536e-1}
-
-
-def _error_setup():
-    from roughgp import sampling
-    from roughgp.gp import kernels
-    kernel = kernels.RotatedExponentialKernel(10.0, (500.0, 5.0), math.pi / 6)
-    return kernel, sampling.grid_covariance(kernel, (100, 100))
-
-
 def check_error_values(full):
     """Sec 3.1: 50 surfaces of 100 x 100 with figure 2's hyperparameters give a mean
     absolute covariance error of 2.536e-1 (Cholesky) and 2.763e-1 (Lanczos)."""
-    from roughgp import sampling
-    from roughgp.sampling import diagnostics
-    kernel, covariance = _error_setup()
-    expected = diagnostics.expected_covariance_error(covariance, 50)
-    draws_needed = 1 + (expected / PAPER_ERROR["cholesky"]) ** 2 * 49
-    variance_fit = 10.0 * PAPER_ERROR["cholesky"] / expected
-    text = (f"exact sampler, expected: {expected:.3f} ({expected / PAPER_ERROR['cholesky']:.1f}x"
-            f" the paper's; 0.2536 needs {draws_needed:.0f} draws or sigma_k^2 = "
-            f"{variance_fit:.1f})")
-    holds = expected > 3 * PAPER_ERROR["cholesky"]
+    from roughgp.experiments import surface_errors
+    paper = surface_errors.PAPER_ERROR
+    setup = surface_errors.error_setup()
+    readings = surface_errors.paper_readings(setup)
+    text = (f"exact sampler, expected: {setup.expected:.3f} ({setup.paper_ratio:.1f}x"
+            f" the paper's; 0.2536 needs {readings.draws_needed:.0f} draws or sigma_k^2 = "
+            f"{readings.variance_fit:.1f})")
+    holds = setup.paper_ratio > 3
     if full:
-        draws = sampling.sample_grid(kernel, (100, 100), n_samples=50, method="cholesky", seed=7)
-        drawn = diagnostics.covariance_error(draws, covariance)
+        drawn = surface_errors.cholesky_errors(setup).error
         text += f"; one Cholesky experiment: {drawn:.3f}"
-        holds = holds and drawn > 3 * PAPER_ERROR["cholesky"]
+        holds = holds and drawn > 3 * paper["cholesky"]
     fig, (ax,) = row_of_axes()
     ax.bar(["paper, Cholesky", "paper, Lanczos", "stated setup,\nexpected"],
-           [PAPER_ERROR["cholesky"], PAPER_ERROR["lanczos"], expected],
-           color=["C3", "C3", "C0"])
+           [paper["cholesky"], paper["lanczos"], setup.expected], color=["C3", "C3", "C0"])
     ax.set(ylabel="mean |S_ij - R_ij|", title="section 3.1: covariance error, 50 draws")
     return Check(text, bool(holds), fig)
 
@@ -80,16 +62,12 @@ def check_error_values(full):
 def check_error_comparable(full):
     """Sec 3.1: the approximate (Lanczos) sampler's covariance error is comparable to the
     exact sampler's."""
-    from roughgp import sampling
-    from roughgp.sampling import diagnostics
-    kernel, covariance = _error_setup()
-    expected = diagnostics.expected_covariance_error(covariance, 50)
-    draws, info = sampling.sample_grid(kernel, (100, 100), n_samples=50, method="lanczos",
-                                       rank=100, seed=7, return_info=True)
-    error = diagnostics.covariance_error(draws, covariance)
-    return Check(f"Lanczos (rank 100, keeps {info.kept_trace_fraction:.0%} of the trace): "
-                 f"{error:.3f}; exact, expected: {expected:.3f}",
-                 abs(error - expected) < 0.35 * expected)
+    from roughgp.experiments import surface_errors
+    setup = surface_errors.error_setup()
+    lanczos = surface_errors.lanczos_error(setup, rank=100)
+    return Check(f"Lanczos (rank 100, keeps {lanczos.kept_trace_fraction:.0%} of the trace): "
+                 f"{lanczos.error:.3f}; exact, expected: {setup.expected:.3f}",
+                 abs(lanczos.error - setup.expected) < 0.35 * setup.expected)
 
 
 # ------------------------------------------------------------------ figure 3

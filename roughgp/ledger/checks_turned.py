@@ -5,70 +5,47 @@ from __future__ import annotations
 import numpy as np
 
 from roughgp.common.plotting import row_of_axes
-from roughgp.gp.noise import GaussianNoise
 from roughgp.ledger.types import Check
 
 __all__ = ["check_periodicity", "check_multimodal", "check_dales_hills", "check_flaw", "check_flaw_cause"]
 
-_CACHE: dict = {}  # the last profile fit, by key: the checks of figure 5 share it
-
-
 # ------------------------------------------------------------------ figures 4, 5
 
-def _turned_profile_fit(full, seed=7):
-    key = ("profile", full, seed)
-    if key not in _CACHE:
-        from roughgp.inference import fitting
-        from roughgp.metrology import levelling
-        from roughgp.models import turned
-        n = 8192 if full else 4096
-        params = turned.TurnedParameters(tilt=0.002)
-        x, raw = turned.turned_profile(n, 1.0, params, seed=seed)
-        z = levelling.level(raw, spacing=1.0)
-        fit = fitting.fit_spectral_mixture(x, z, 5, seed=seed)
-        _CACHE.clear()
-        _CACHE[key] = (x, z, fit, params.feed)
-    return _CACHE[key]
+def _profile_fit(full):
+    from roughgp.experiments import turned_profile
+    return turned_profile.figure5_fit(8192 if full else 4096)
 
 
 def check_periodicity(full):
     """Figure 5: the spectral mixture (eq 21, Q = 5) fitted to a turned profile extracts its
     periodicity (the feed) automatically."""
-    _, _, fit, feed = _turned_profile_fit(full)
-    error = fit.dominant_period / feed - 1
-    return Check(f"dominant fitted period {fit.dominant_period:.2f} um, feed {feed:g} um "
-                 f"({100 * error:+.2f} %)", abs(error) < 0.01)
+    r = _profile_fit(full)
+    return Check(f"dominant fitted period {r.fit.dominant_period:.2f} um, feed {r.feed:g} um "
+                 f"({100 * r.period_error:+.2f} %)", abs(r.period_error) < 0.01)
 
 
 def check_multimodal(full):
     """Sec 3.3-3.4: fitting eq 21 is a multi-modal optimisation: optimised starts end at
     different optima."""
-    _, _, fit, _ = _turned_profile_fit(full)
-    finals = sorted(c.final_log_likelihood for c in fit.candidates if c.optimised)
-    distinct = len({round(v, 0) for v in finals})
+    r = _profile_fit(full)
+    finals = r.optimised_log_likelihoods
     return Check(f"{len(finals)} optimised starts end at log ML "
-                 + ", ".join(f"{v:.0f}" for v in finals), distinct >= 2)
+                 + ", ".join(f"{v:.0f}" for v in finals), r.n_distinct_optima >= 2)
 
 
 def check_dales_hills(full):
     """Figure 5: the simulations show the data's wide dales and narrow hills."""
-    from roughgp import sampling
-    from roughgp.metrology import texture
-    x, z, fit, _ = _turned_profile_fit(full)
-    n_sim = 200 if full else 40
-    latent = sampling.sample_grid(fit.kernel(), (z.size,), spacing=1.0, n_samples=n_sim,
-                                  seed=8)
-    sims = GaussianNoise(fit.noise_variance).sample(latent, seed=9)  # eq 8
-    rsk = np.array([texture.profile_parameters(s, 1.0, undefined="nan")["Rsk"] for s in sims])
-    data_rsk = texture.profile_parameters(z, 1.0)["Rsk"]
-    lo, hi = np.nanpercentile(rsk, [2.5, 97.5])
+    from roughgp.experiments import turned_profile
+    sims = turned_profile.figure5_simulations(_profile_fit(full), 200 if full else 40)
+    rsk, data_rsk = sims.values["Rsk"], sims.measured["Rsk"]
+    lo, hi = sims.ranges["Rsk"]
     fig, (ax,) = row_of_axes()
     ax.hist(rsk[np.isfinite(rsk)], bins=15, color="C0", alpha=0.7, label="simulations")
     ax.axvline(data_rsk, color="C3", lw=2, label="data")
     ax.set(xlabel="Rsk", yticks=[], title="figure 5: skewness of simulated profiles")
     ax.legend()
-    return Check(f"Rsk: data {data_rsk:.2f}; {n_sim} simulations 95 % range [{lo:.2f}, "
-                 f"{hi:.2f}] (a GP is symmetric)", not lo <= data_rsk <= hi, fig)
+    return Check(f"Rsk: data {data_rsk:.2f}; {sims.n_simulations} simulations 95 % range "
+                 f"[{lo:.2f}, {hi:.2f}] (a GP is symmetric)", not sims.inside["Rsk"], fig)
 
 
 # ------------------------------------------------------------------ figures 6, 7

@@ -10,8 +10,10 @@ spacing and unit came from), :mod:`~roughgp.metrology.writers` (``.npy``, ``.csv
 :mod:`~roughgp.metrology.form` (F-operators: least-squares plane, polynomial, cylinder;
 NaN-aware), :mod:`~roughgp.metrology.filters` (ISO 16610-21 profile and ISO 16610-61 areal
 Gaussian filters as S- and L-filters, NaN-aware; default cut-offs after ISO 4288 / ISO 3274 and
-ISO 25178-3; the F-S-L chain), :mod:`~roughgp.metrology.texture` (ISO 25178-2, ISO 4287,
-ISO 13565-2 parameters), :mod:`~roughgp.metrology.texture_report` (the parameters after the
+ISO 25178-3; the F-S-L chain), :mod:`~roughgp.metrology.texture_heights` (height and
+material-ratio parameters, ISO 25178-2 4.1 and 4.4, ISO 4287, ISO 13565-2; the conventions of
+both texture modules), :mod:`~roughgp.metrology.texture` (Sal, Str, Std, RSm and the whole
+parameter sets), :mod:`~roughgp.metrology.texture_report` (the parameters after the
 F-, S- and L-operators, unmeasured points handled), :mod:`~roughgp.metrology.spectral`
 (periodogram, Welch, empirical ACVF), :mod:`~roughgp.metrology.periodicity` (periodicity and
 short-wavelength share along x).

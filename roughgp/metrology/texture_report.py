@@ -15,7 +15,7 @@ import dataclasses
 
 import numpy as np
 
-from roughgp.metrology import texture
+from roughgp.metrology import texture, texture_heights
 from roughgp.metrology.filters import Texture, surface_texture
 
 __all__ = ["TextureReport", "filtered_parameters", "point_statistics", "UNITS", "unit_of"]
@@ -59,8 +59,8 @@ class TextureReport:
 def point_statistics(h, areal):
     """Height and material-ratio parameters of the measured points of ``h`` alone."""
     values = h[np.isfinite(h)]
-    out = texture.height_parameters(values, undefined="nan")
-    out.update(texture.material_ratio_parameters(values, undefined="nan"))
+    out = texture_heights.height_parameters(values, undefined="nan")
+    out.update(texture_heights.material_ratio_parameters(values, undefined="nan"))
     if not areal:
         return out
     return {_AREAL_FROM_PROFILE[k]: v for k, v in out.items()}

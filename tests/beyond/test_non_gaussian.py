@@ -8,7 +8,7 @@ import pytest
 
 from roughgp.beyond import non_gaussian as ng
 from roughgp.gp.kernels import MaternKernel
-from roughgp.metrology import spectral, texture
+from roughgp.metrology import spectral, texture_heights
 
 # (skewness, kurtosis, family): both sides of the lognormal line, both signs, symmetric cases
 PAIRS = [(-1.5, 6.0, "SB"), (0.61, 2.13, "SB"), (3.0, 10.5, "SB"), (0.0, 2.0, "SB"),
@@ -175,7 +175,7 @@ def surfaces_512():
 def test_surface_reaches_target_moments(surfaces_512):
     _, z, info, _, _ = surfaces_512
     assert z.shape == (16, 512, 512) and info.clipped_fraction == 0.0   # exact embedding
-    params = [texture.height_parameters(s) for s in z]
+    params = [texture_heights.height_parameters(s) for s in z]
     for key, target in (("Ssk", -1.5), ("Sku", 6.0), ("Sq", 1.0)):
         values = np.array([p[key] for p in params])
         se = values.std(ddof=1) / math.sqrt(len(values))              # spread from the seeds

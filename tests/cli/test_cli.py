@@ -209,7 +209,7 @@ def test_simulate_errors(capsys, tmp_path):
 # ------------------------------------------------------------------ simulate ground --target
 
 def test_simulate_ground_with_target(capsys, tmp_path):
-    from roughgp.beyond import targets
+    from roughgp.beyond import prescribed, targets
     path, err = _simulate(capsys, tmp_path, "ground", "t.npy", 2, (96, 96), "--target",
                           "Sq=1.0", "Sal=4", "Str=0.25", "Std=30", "--noise-variance", 0.05)
     hyper = targets.hyperparameters_for(1.0, 4.0, 0.25, 30.0, noise_variance=0.05)
@@ -219,8 +219,8 @@ def test_simulate_ground_with_target(capsys, tmp_path):
     achieved = next(line for line in err.splitlines() if line.startswith("achieved"))
     for name in ("Sq", "Sal", "Str", "Std"):
         assert f"{name} " in achieved and "target" in achieved
-    z, _ = targets.simulate_with_targets({"Sq": 1.0, "Sal": 4, "Str": 0.25, "Std": 30},
-                                         (96, 96), seed=2, noise_variance=0.05)
+    z, _ = prescribed.simulate_with_targets({"Sq": 1.0, "Sal": 4, "Str": 0.25, "Std": 30},
+                                            (96, 96), seed=2, noise_variance=0.05)
     np.testing.assert_array_equal(np.load(path), z)
     measured = targets.measure(z)
     assert f"Sq {measured['Sq']:.4g} um (target 1)" in achieved

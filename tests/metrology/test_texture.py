@@ -24,8 +24,8 @@ from scipy import stats
 from roughgp.common.grid import centred_lags
 from roughgp.gp.acvf import rotated_exponential
 from roughgp.gp.kernels import MaternKernel, RotatedExponentialKernel
-from roughgp.metrology import texture
-from roughgp.metrology.texture import UndefinedParameterError
+from roughgp.metrology import texture, texture_heights
+from roughgp.metrology.texture_heights import UndefinedParameterError
 from roughgp.sampling import sample_grid
 
 # --------------------------------------------------------------------------- helpers
@@ -94,7 +94,7 @@ def test_plane_mean_only_has_the_plane_sq_and_levelled_is_flat():
     z = a * x + b * y + 5.0
     # Sq^2 = a^2 var(x) + b^2 var(y), var of an arithmetic grid: d^2 (n^2 - 1) / 12
     sq = math.sqrt(a**2 * dx**2 * (nx**2 - 1) / 12 + b**2 * dy**2 * (ny**2 - 1) / 12)
-    mean_only = texture.height_parameters(z)
+    mean_only = texture_heights.height_parameters(z)
     assert mean_only["Sq"] == pytest.approx(sq, rel=1e-12)
     assert mean_only["Sp"] == pytest.approx(a * (nx - 1) * dx / 2 - b * (ny - 1) * dy / 2)
     assert mean_only["Ssk"] == pytest.approx(0.0, abs=1e-12)  # symmetric heights
@@ -102,7 +102,7 @@ def test_plane_mean_only_has_the_plane_sq_and_levelled_is_flat():
     with pytest.raises(UndefinedParameterError, match="zero height variance"):
         texture.areal_parameters(z, (dy, dx), level=True)
     with pytest.raises(ValueError, match="z has zero height variance.*Ssk"):
-        texture.height_parameters(z, level=True)
+        texture_heights.height_parameters(z, level=True)
     levelled = texture.areal_parameters(z, (dy, dx), level=True, undefined="nan")
     assert levelled["Sq"] < 1e-12 * np.abs(z).max()
     assert levelled["Sz"] < 1e-11 * np.abs(z).max()
@@ -116,7 +116,7 @@ def test_constant_surface_and_profile_are_flat():
     with pytest.raises(UndefinedParameterError, match="RSm"):
         texture.profile_parameters(np.full(50, -1.0))
     for call in (texture.texture_direction, texture.spatial_parameters, texture.mean_width,
-                 texture.material_ratio_parameters):
+                 texture_heights.material_ratio_parameters):
         z = np.zeros(50) if call is texture.mean_width else np.zeros((8, 8))
         with pytest.raises(UndefinedParameterError, match="zero height variance"):
             call(z)
@@ -157,16 +157,16 @@ def test_sinusoid_surface_height_parameters():
 def test_material_ratio_curve_of_a_sinusoid_is_the_arcsine_law():
     # Smr(c) = 1/2 - arcsin(c / A) / pi for a sinusoid, i.e. height(mr) = A cos(pi mr)
     z = _dense_period()
-    ratio, heights = texture.material_ratio_curve(z)
+    ratio, heights = texture_heights.material_ratio_curve(z)
     assert ratio[0] == 0 and ratio[-1] == 100 and np.all(np.diff(heights) <= 0)
     # an error of 2 / N_DENSE in ratio moves the height by at most A pi 2 / N_DENSE
     law = A * np.cos(math.pi * ratio / 100)
     np.testing.assert_allclose(heights, law, atol=2 * A * math.pi / N_DENSE)
-    _, surface_heights = texture.material_ratio_curve(z.reshape(100, 200))
+    _, surface_heights = texture_heights.material_ratio_curve(z.reshape(100, 200))
     np.testing.assert_allclose(surface_heights, law, atol=2 * A * math.pi / N_DENSE)
     # a 10-period profile with 200 samples a period repeats each height 10 times: steps of
     # 0.5 % in ratio, so the law holds only to A pi 0.005
-    coarse = texture.material_ratio_curve(_sinusoid()[0])[1]
+    coarse = texture_heights.material_ratio_curve(_sinusoid()[0])[1]
     np.testing.assert_allclose(coarse, law, atol=A * math.pi * 0.005)
 
 
@@ -174,7 +174,7 @@ def test_material_ratio_parameters_of_a_sinusoid_secant_line():
     # The curve A cos(pi mr / 100) is flattest at its ends: the least-gradient 40 % secant is
     # on [0, 40] (tied with [60, 100]; the first wins). Everything follows in closed form.
     z = _dense_period()
-    got = texture.curve_parameters(*texture.material_ratio_curve(z), line="secant")
+    got = texture_heights.curve_parameters(*texture_heights.material_ratio_curve(z), line="secant")
     slope = (A * math.cos(0.4 * math.pi) - A) / 40
     upper, lower = A, A + 100 * slope
     mr2 = 100 * math.acos(lower / A) / math.pi
@@ -187,14 +187,14 @@ def test_material_ratio_parameters_of_a_sinusoid_secant_line():
     # the default line is the least-squares line through the curve on [0, 40]
     window = np.linspace(0, 40, 4001)
     slope_ls = np.polyfit(window, A * np.cos(math.pi * window / 100), 1)[0]
-    default = texture.material_ratio_parameters(z)
+    default = texture_heights.material_ratio_parameters(z)
     assert default["Rk"] == pytest.approx(-100 * slope_ls, rel=1e-3)
     assert default["Rk"] != pytest.approx(got["k"], rel=0.01)
 
 
 def test_curve_parameters_of_a_straight_curve_has_no_peaks_or_valleys():
     ratio = np.linspace(0, 100, 1001)
-    got = texture.curve_parameters(ratio, 3.0 - 0.05 * ratio)
+    got = texture_heights.curve_parameters(ratio, 3.0 - 0.05 * ratio)
     assert got["k"] == pytest.approx(5.0, rel=1e-12)
     assert got["mr1"] == pytest.approx(0.0, abs=1e-9)
     assert got["mr2"] == pytest.approx(100.0, abs=1e-9)
@@ -244,7 +244,7 @@ def test_gaussian_surface_height_and_material_ratio_parameters():
     # The same algorithm on the exact Gaussian curve, height(mr) = Sq * Phi^-1(1 - mr):
     # Sk = 2.574, Spk = Svk = 0.948, Smr1 = 9.90 %, Smr2 = 90.10 % (in units of Sq).
     ratio = np.linspace(0, 100, 10001)
-    exact = texture.curve_parameters(ratio, stats.norm.isf(np.clip(ratio / 100, 1e-12,
+    exact = texture_heights.curve_parameters(ratio, stats.norm.isf(np.clip(ratio / 100, 1e-12,
                                                                    1 - 1e-12)))
     assert exact["k"] == pytest.approx(2.574, abs=1e-3)
     assert exact["pk"] == pytest.approx(exact["vk"], rel=1e-6)
@@ -395,21 +395,21 @@ def test_autocorrelation_shape_and_lags():
     (texture.areal_parameters, np.ones((8, 8)), {"spacing": (1, 2, 3)}, "spacing must be"),
     (texture.profile_parameters, np.ones(8), {"spacing": math.nan}, "spacing must be finite"),
     (texture.areal_parameters, np.ones((8, 8)), {"undefined": "zero"}, "undefined must be"),
-    (texture.height_parameters, np.arange(64.0).reshape(8, 8), {"undefined": "skip"},
+    (texture_heights.height_parameters, np.arange(64.0).reshape(8, 8), {"undefined": "skip"},
      "undefined must be"),
     (texture.mean_width, np.sin(np.arange(64.0)), {"undefined": None}, "undefined must be"),
     (texture.spatial_parameters, np.ones((8, 8)), {"s": 1.2}, r"s must be in \(0, 1\)"),
     (texture.angular_spectrum, np.ones((8, 8)), {"n_angles": 4}, "n_angles must be"),
-    (texture.material_ratio_curve, np.ones(8), {"n_points": 10}, "n_points must be"),
+    (texture_heights.material_ratio_curve, np.ones(8), {"n_points": 10}, "n_points must be"),
 ])
 def test_bad_input_names_the_parameter(call, z, kwargs, match):
     with pytest.raises(ValueError, match=match):
         call(z, **kwargs)
 
 
-@pytest.mark.parametrize("call", [texture.areal_parameters, texture.height_parameters,
+@pytest.mark.parametrize("call", [texture.areal_parameters, texture_heights.height_parameters,
                                   texture.spatial_parameters, texture.texture_direction,
-                                  texture.material_ratio_curve, texture.autocorrelation])
+                                  texture_heights.material_ratio_curve, texture.autocorrelation])
 def test_non_finite_surface_is_refused(call):
     z = np.ones((8, 8))
     z[3, 4] = math.nan
@@ -427,13 +427,13 @@ def test_non_finite_profile_is_refused():
 def test_bad_curve_is_refused():
     ratio = np.linspace(0, 100, 201)
     with pytest.raises(ValueError, match="line must be"):
-        texture.curve_parameters(ratio, -ratio, line="tangent")
+        texture_heights.curve_parameters(ratio, -ratio, line="tangent")
     with pytest.raises(ValueError, match="non-increasing"):
-        texture.curve_parameters(ratio, ratio)
+        texture_heights.curve_parameters(ratio, ratio)
     with pytest.raises(ValueError, match="increase from 0 to 100"):
-        texture.curve_parameters(ratio / 2, -ratio)
+        texture_heights.curve_parameters(ratio / 2, -ratio)
     with pytest.raises(ValueError, match="same length"):
-        texture.curve_parameters(ratio, -ratio[:-1])
+        texture_heights.curve_parameters(ratio, -ratio[:-1])
 
 
 # --------------------------------------------------------------------------- surfalize
