@@ -1,5 +1,5 @@
 """``roughgp fill FILE``: the unmeasured (NaN) points of a surface filled by the GP
-(:func:`roughgp.beyond.measured_fill.fill_measured_surface`). Argument handling and messages only.
+(:func:`roughgp.beyond.measured.fill.fill_measured_surface`). Argument handling and messages only.
 """
 
 from __future__ import annotations
@@ -21,21 +21,25 @@ from roughgp.cli.output import (
 from roughgp.metrology.measurement import read_measurement
 from roughgp.metrology.writers import WRITE_FORMATS, write_heights
 
-__all__ = ['add_parser', 'run']
+__all__ = ['add_parser', 'run', 'MAX_SAMPLES']
+
+MAX_SAMPLES = 256
 
 
 _FILL = """\
 Fill the unmeasured (NaN) points of a surface, e.g. the non-measured points an optical
-instrument leaves at steep flanks: the surface is levelled (least-squares plane), eq 18 plus
-white noise is fitted to the measured points alone (block composite likelihood,
-roughgp.inference.block_fit), and the missing points get the GP posterior mean (roughgp.beyond.gap_filling,
-conjugate gradients with FFT products). --sd also writes the posterior standard deviation
-at the filled points (pathwise draws). Suited to stationary, ground-like textures; heights
-and lengths in um.
+instrument leaves at steep flanks: the form is removed (F-operator: a least-squares plane by
+default, --form cylinder for a curved part), eq 18 plus white noise is fitted to the
+measured points alone (block composite likelihood, roughgp.inference.block_fit) unless
+--model gives a model file of 'roughgp fit ground', the missing points get the GP posterior
+mean, and the form is added back. --method local (default: moving-window kriging,
+roughgp.beyond.local_fill; bounded work, an exact sd per window, holds on real
+measurements) or global (all measured points: conjugate gradients with FFT products and
+--samples pathwise draws for the sd; for well-conditioned synthetic cases). --sd also
+writes the posterior standard deviation at the filled points. Heights and lengths in um.
 
 example:
   roughgp fill measured.x3p --out filled.x3p --sd sd.x3p --seed 0"""
-
 
 
 def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
@@ -46,29 +50,52 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     f.add_argument("--out", required=True, metavar="FILE",
                    help="the filled surface: " + ", ".join(WRITE_FORMATS))
     f.add_argument("--sd", metavar="FILE", help="also write the posterior sd map")
+    f.add_argument("--model", metavar="MODEL.json",
+                   help="use this eq 18 model file (roughgp fit ground) instead of a fit")
+    f.add_argument("--form", choices=("plane", "polynomial", "cylinder", "none"),
+                   default="plane", help="F-operator removed and added back (default plane)")
+    f.add_argument("--degree", type=int, default=2, metavar="N",
+                   help="degree of --form polynomial (default 2)")
+    f.add_argument("--axis", choices=("auto", "x", "y"), default="auto",
+                   help="the axis of --form cylinder (default auto: the better fit)")
+    f.add_argument("--method", choices=("local", "global"), default="local",
+                   help="local (default): moving-window kriging; global: all points by CG")
     f.add_argument("--samples", type=int, default=16, metavar="N",
-                   help="pathwise draws for the sd (default 16; 0: the mean only)")
+                   help=f"--method global: pathwise draws for --sd, 2 to {MAX_SAMPLES} "
+                        f"(default 16)")
     f.add_argument("--seed", type=int, default=0, metavar="S",
                    help="seed of the blocks chosen for the fit and of the draws (default 0)")
     add_force_option(f)
     f.add_argument("--block", type=int, default=24, metavar="B",
-                   help="side of the fit's blocks in points (default 24)")
+                   help="side of the fit's blocks in points, 4 to 64 (default 24)")
     f.add_argument("--blocks", type=int, default=12, metavar="K",
-                   help="blocks used by the fit (default 12)")
+                   help="blocks used by the fit, 1 to 200 (default 12)")
     f.add_argument("--device", metavar="DEV",
-                   help="run the fill's FFTs and CG through torch on DEV (cpu, cuda, cuda:N)")
+                   help="--method global: run the FFTs and CG through torch on DEV (cpu, "
+                        "cuda, cuda:N)")
     f.set_defaults(func=run)
 
 
 def run(args) -> int:
     """``roughgp fill FILE``: fill the unmeasured points of a surface with the GP posterior."""
-    from roughgp.beyond.measured_fill import fill_measured_surface
+    from roughgp.beyond.measured.fill import fill_measured_surface
+    from roughgp.cli.options import load_model
     out, sd_out = check_outputs(("--out", args.out, "heights"), ("--sd", args.sd, "heights"),
-                                inputs=(args.file,), force=args.force)
-    if args.samples < 0:
-        raise UsageError(f"--samples must be >= 0, got {args.samples}")
-    if sd_out is not None and args.samples < 2:
+                                inputs=(args.file, args.model), force=args.force)
+    if not 0 <= args.samples <= MAX_SAMPLES:
+        raise UsageError(f"--samples must be in [0, {MAX_SAMPLES}], got {args.samples}")
+    if sd_out is not None and args.method == "global" and args.samples < 2:
         raise UsageError("--sd needs --samples >= 2 (the sd is estimated from the draws)")
+    if not 4 <= args.block <= 64:
+        raise UsageError(f"--block must be in [4, 64], got {args.block}")
+    if not 1 <= args.blocks <= 200:
+        raise UsageError(f"--blocks must be in [1, 200], got {args.blocks}")
+    if args.degree < 1:
+        raise UsageError(f"--degree must be >= 1, got {args.degree}")
+    model = load_model(args.model, "--model") if args.model else None
+    if model is not None and model.equation != "eq18":
+        raise UsageError(f"--model {args.model} is a {model.kind} model ({model.equation}); "
+                         f"fill needs an eq 18 surface model (roughgp fit ground)")
     check_device(args.device)
     check_spacing(args.spacing)
     heights = read_measurement(args.file, kind="surface", spacing=args.spacing,
@@ -88,24 +115,41 @@ def run(args) -> int:
     err(f"{args.file}: {z.shape[0]} x {z.shape[1]} points, spacing {dy:g} x {dx:g} um "
         f"({heights.spacing_source}), {missing.sum()} missing ({missing.mean():.1%})")
     start = time.perf_counter()
-    result = fill_measured_surface(z, spacing=heights.spacing, n_samples=args.samples,
-                                   seed=args.seed, block=args.block, n_blocks=args.blocks,
-                                   device=args.device)
+    samples = args.samples if (sd_out is not None and args.method == "global") else 0
+    try:
+        result = fill_measured_surface(z, spacing=heights.spacing, n_samples=samples,
+                                       seed=args.seed, block=args.block, n_blocks=args.blocks,
+                                       form=None if args.form == "none" else args.form,
+                                       degree=args.degree, axis=args.axis, model=model,
+                                       method=args.method, device=args.device)
+    except ValueError as exc:
+        raise UsageError(f"{args.file}: {exc}") from None
     fit, fill = result.fit, result.gaps
-    fit_seconds = time.perf_counter() - start - fill.seconds
-    err(f"eq 18 fitted on {fit.n_points} measured points of {len(fit.blocks)} blocks in "
-        f"{fit_seconds:.1f} s: {describe_groove(fit.groove)}, noise variance "
-        f"{fit.noise_variance:.4g} um^2")
-    if not fill.converged:
-        err("warning: conjugate gradients did not reach their tolerance; the fill is "
-            "approximate")
-    err(f"filled in {fill.seconds:.1f} s ({fill.iterations} CG iterations"
-        + (f", {args.samples} draws for the sd" if args.samples else "") + ")")
-    comment = (f"roughgp fill {Path(args.file).name} --seed {args.seed}: levelled by a "
-               f"least-squares plane (added back), eq 18 plus white noise fitted to the "
-               f"measured points ({describe_groove(fit.groove)}, noise variance "
-               f"{fit.noise_variance:.4g} um^2), the {missing.sum()} missing points filled by "
-               f"the GP posterior mean")
+    if fit is not None:
+        fit_seconds = time.perf_counter() - start - fill.seconds
+        used = (f"eq 18 plus white noise fitted to the measured points "
+                f"({describe_groove(fit.groove)}, noise variance {fit.noise_variance:.4g} um^2)")
+        err(f"eq 18 fitted on {fit.n_points} measured points of {len(fit.blocks)} blocks in "
+            f"{fit_seconds:.1f} s: {describe_groove(fit.groove)}, noise variance "
+            f"{fit.noise_variance:.4g} um^2")
+    else:
+        used = f"the model {Path(args.model).name} ({model.describe()})"
+        err(f"model {args.model}: {model.describe()}")
+    if args.method == "global":
+        if not fill.converged:
+            err("warning: conjugate gradients did not reach their tolerance; the fill is "
+                "approximate (try --method local)")
+        if fill.prior_clipped_fraction > 0:
+            err(f"note: the sd's prior draws come from a clipped circulant embedding: "
+                f"{fill.prior_clipped_fraction:.2g} of the prior variance lost")
+        err(f"filled in {fill.seconds:.1f} s ({fill.iterations} CG iterations"
+            + (f", {samples} draws for the sd" if samples else "") + ")")
+    else:
+        err(f"filled in {fill.seconds:.1f} s (moving-window kriging: {fill.tiles} windows, at "
+            f"most {fill.largest_window} measured points each)")
+    comment = (f"roughgp fill {Path(args.file).name} --seed {args.seed}: the form "
+               f"({result.form.label}) removed and added back, {used}, the {missing.sum()} "
+               f"missing points filled by the GP posterior mean ({args.method})")
     write_heights(out, result.filled, spacing, comment, source=heights.meta)
     err(f"wrote {out} (the measured heights, the {missing.sum()} missing ones filled by the "
         f"posterior mean)")
@@ -113,7 +157,8 @@ def run(args) -> int:
         offset = heights.meta.get("offset")  # an sd is no height: no z offset
         sd_offset = None if offset is None else (*tuple(offset)[:2], 0.0)
         write_heights(sd_out, result.sd, spacing,
-                      comment + f"; this file: the posterior sd ({args.samples} draws)",
+                      comment + "; this file: the posterior sd"
+                      + (f" ({samples} draws)" if args.method == "global" else ""),
                       source={**heights.meta, "offset": sd_offset})
         sd = result.sd[missing]
         err(f"wrote {sd_out} (posterior sd of the latent surface at the filled points, 0 at "

@@ -1,15 +1,18 @@
-"""``roughgp fit FILE``: the spectral-mixture fit (eq 21) of section 3.3 to a profile, or to
-the mean profile of a surface. Argument handling and the printed table only.
+"""``roughgp fit profile|ground FILE``: fit a model to a measurement and write it as a model
+file (:mod:`roughgp.beyond.measured`). Argument handling and the printed table only.
 """
 
 from __future__ import annotations
 
+import argparse
+import hashlib
 import math
 import time
-import warnings
+from pathlib import Path
 
 import numpy as np
 
+from roughgp.cli.options import add_operator_options, operator_settings
 from roughgp.cli.output import (
     UsageError,
     add_force_option,
@@ -17,120 +20,217 @@ from roughgp.cli.output import (
     check_spacing,
     err,
     print_wrapped,
-    write_json,
 )
 from roughgp.metrology.measurement import mean_profile, read_measurement
 
-__all__ = ['add_parser', 'run']
+__all__ = ['add_parser', 'run', 'MAX_MIXTURES', 'MAX_CANDIDATES', 'MAX_PROFILE_POINTS']
 
+MAX_MIXTURES = 50
+MAX_CANDIDATES = 200
+#: the exact eq 21 likelihood costs O(n^2) per step: beyond this it takes hours
+MAX_PROFILE_POINTS = 65536
 
 _FIT = """\
+Fit a model to a measurement and write it as a model file (--out MODEL.json: versioned JSON
+with the equation, the hyperparameters with their units, the operators applied, the data
+and the log likelihood) that 'roughgp simulate --from', 'roughgp check' and 'roughgp fill
+--model' read.
+
+examples:
+  roughgp fit ground land.x3p --form cylinder --l-filter 250 --out land-model.json
+  roughgp fit profile turned.csv --mixtures 5 --seed 0 --out profile-model.json"""
+
+_PROFILE = """\
 Fit the spectral mixture ACVF of eq 21 (Q Gaussian lines plus white noise) to a profile by
 maximum marginal likelihood, as in section 3.3: candidates from Welch and periodogram PSD
-estimates, the best optimised. The profile is levelled first (least-squares line). A
-surface is reduced to its MEAN PROFILE: with --axis x (default) the rows are averaged
-(over y, i.e. along the lay of a turned surface whose feed marks run along y), leaving a
-profile along x; --axis y averages the columns. Prints and (--out) writes the weights
-(um^2), periods 1/mu (um), line widths (the standard deviation of each spectral Gaussian,
-1/um), the noise variance, the log marginal likelihood and the dominant period.
-The exact likelihood costs O(n^2) per step: a few thousand points take seconds to minutes.
+estimates, the best optimised. The F-operator (a least-squares line by default) and, when
+asked, S- and L-filters are applied first. A surface is reduced to its MEAN PROFILE: with
+--axis x (default) the rows are averaged (over y, i.e. along the lay of a turned surface
+whose feed marks run along y), leaving a profile along x; --axis y averages the columns.
+Prints the weights (um^2), periods 1/mu (um), line widths (the standard deviation of each
+spectral Gaussian, 1/um), the noise variance, the log marginal likelihood and the dominant
+period. The exact likelihood costs O(n^2) per step: a few thousand points take seconds to
+minutes; at most 65536 points.
 
 example:
-  roughgp fit turned.csv --mixtures 5 --seed 0 --out fit.json"""
+  roughgp fit profile turned.csv --mixtures 5 --seed 0 --out fit.json"""
 
+_GROUND = """\
+Fit eq 18 (the rotated anisotropic exponential ACVF: variance, lambda_a along the lay,
+lambda_b across it, the lay angle) plus white noise (eq 8) to a measured surface, holes
+allowed: maximum block composite likelihood on the measured points of --blocks random
+windows of --block x --block points (roughgp.inference.block_fit). The F-operator (plane by
+default; --form cylinder for a curved part such as a bullet land) and the L-filter (default:
+the standard's, the largest preferred nesting index <= a fifth of the field) are applied
+first; no S-filter by default (the model's noise stands for the instrument's). A correlation
+length beyond the field is not identified by one field: the L-filter keeps the fit to the
+roughness. --non-gaussian keeps the heights' skewness and kurtosis in the model (its
+simulations are then Johnson-transformed GPs, roughgp.beyond.non_gaussian).
+
+example:
+  roughgp fit ground land.x3p --form cylinder --out land-model.json"""
 
 
 def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
-    """Add ``fit`` to the sub-command parsers ``sub``."""
-    f = sub.add_parser("fit", formatter_class=formatter, description=_FIT, epilog=input_epilog,
-                       help="spectral-mixture fit (eq 21) of a profile")
-    add_input_options(f)
-    f.add_argument("--mixtures", type=int, default=5, metavar="Q",
-                   help="number of spectral-mixture components (default 5, the paper's)")
-    f.add_argument("--seed", type=int, default=0, metavar="S",
-                   help="seed of the fit's initialisations (default 0)")
-    f.add_argument("--candidates", type=int, default=10, metavar="N",
-                   help="initialisations scored (default 10)")
-    f.add_argument("--axis", choices=("x", "y"), default="x",
+    """Add ``fit`` and its models to the sub-command parsers ``sub``."""
+    f = sub.add_parser("fit", formatter_class=formatter, description=_FIT,
+                       help="fit eq 21 to a profile or eq 18 to a surface; write a model file")
+    models = f.add_subparsers(dest="model", metavar="MODEL", required=True,
+                              title="models (roughgp fit MODEL --help for each)")
+    shared = argparse.ArgumentParser(add_help=False)
+    shared.add_argument("--seed", type=int, default=0, metavar="S",
+                        help="seed of the fit's initialisations or blocks (default 0)")
+    shared.add_argument("--non-gaussian", action="store_true",
+                        help="keep the heights' skewness and kurtosis in the model")
+    shared.add_argument("--out", metavar="MODEL.json", help="write the model file (.json)")
+
+    p = models.add_parser("profile", parents=[shared], formatter_class=formatter,
+                          description=_PROFILE, epilog=input_epilog,
+                          help="eq 21 spectral mixture of a profile (section 3.3)")
+    add_input_options(p)
+    add_operator_options(p, s_default="none", l_default="none")
+    p.add_argument("--mixtures", type=int, default=5, metavar="Q",
+                   help=f"spectral-mixture components, 1 to {MAX_MIXTURES} (default 5, the "
+                        f"paper's)")
+    p.add_argument("--candidates", type=int, default=10, metavar="N",
+                   help=f"initialisations scored, 1 to {MAX_CANDIDATES} (default 10)")
+    p.add_argument("--profile-axis", choices=("x", "y"), default="x",
                    help="for a surface: the direction of the mean profile (default x)")
-    f.add_argument("--out", metavar="RESULT.json", help="write the fit as JSON (.json)")
-    add_force_option(f)
-    f.set_defaults(func=run)
+    add_force_option(p)
+    p.set_defaults(func=run)
+
+    g = models.add_parser("ground", parents=[shared], formatter_class=formatter,
+                          description=_GROUND, epilog=input_epilog,
+                          help="eq 18 + noise on a measured surface with holes")
+    add_input_options(g, kind=False, what="the surface, heights in um, NaN where missing")
+    add_operator_options(g, s_default="none", l_default="auto")
+    g.add_argument("--block", type=int, default=24, metavar="B",
+                   help="side of the fit's blocks in points, 4 to 64 (default 24)")
+    g.add_argument("--blocks", type=int, default=12, metavar="K",
+                   help="blocks used by the fit, 1 to 200 (default 12)")
+    add_force_option(g)
+    g.set_defaults(func=run)
+
+
+def _checksum(path) -> str:
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        for chunk in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(chunk)
+    return digest.hexdigest()
+
+
+def _check_range(option, value, low, high):
+    if not low <= value <= high:
+        raise UsageError(f"{option} must be in [{low}, {high}], got {value}")
 
 
 def run(args) -> int:
-    """``roughgp fit FILE``: the spectral-mixture fit (eq 21) of section 3.3."""
-    from roughgp.inference import fitting
-    from roughgp.metrology import levelling
-    if args.mixtures < 1:
-        raise UsageError(f"--mixtures must be >= 1, got {args.mixtures}")
-    if args.candidates < 1:
-        raise UsageError(f"--candidates must be >= 1, got {args.candidates}")
+    """``roughgp fit MODEL FILE``."""
     check_spacing(args.spacing)
-    check_outputs(("--out", args.out, "json"), inputs=(args.file,), force=args.force)
-    heights = read_measurement(args.file, kind=args.kind, spacing=args.spacing,
-                               channel=args.channel, unit=args.unit)
+    operators = operator_settings(args)
+    (out,) = check_outputs(("--out", args.out, "json"), inputs=(args.file,), force=args.force)
+    if args.model == "profile":
+        _check_range("--mixtures", args.mixtures, 1, MAX_MIXTURES)
+        _check_range("--candidates", args.candidates, 1, MAX_CANDIDATES)
+    else:
+        _check_range("--block", args.block, 4, 64)
+        _check_range("--blocks", args.blocks, 1, 200)
+    heights = read_measurement(args.file, kind=getattr(args, "kind", "surface"),
+                               spacing=args.spacing, channel=args.channel, unit=args.unit)
     for note in heights.notes:
         err(f"note: {args.file}: {note}")
-    z, spacing, how = mean_profile(heights, args.axis)
-    missing = int(np.count_nonzero(np.isnan(z)))
-    if missing:
-        raise UsageError(f"{args.file}: the profile has {missing} missing (NaN) point(s); the "
-                         "fit needs a complete profile (fill or crop them first)")
-    if z.size < fitting.MIN_POINTS:
-        raise UsageError(f"{args.file}: the profile has {z.size} points; the fit needs at "
-                         f"least {fitting.MIN_POINTS}")
-    z, line = levelling.level(z, spacing=spacing, return_coefficients=True)
-    x = np.arange(z.size) * spacing
-    if z.size > 16384:
-        err(f"note: {z.size} points; the exact likelihood costs O(n^2) per step, so this "
-             "can take many minutes (crop or decimate the profile for a quicker look)")
-    err(f"fitting Q = {args.mixtures} spectral-mixture components (eq 21) to {z.size} points "
-         f"(spacing {spacing:g} um, {how}) ...")
+    data = {"file": Path(args.file).name, "sha256": _checksum(args.file),
+            "reader": heights.reader, "spacing_from": heights.spacing_source}
     start = time.perf_counter()
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)
-        fit = fitting.fit_spectral_mixture(x, z, args.mixtures, seed=args.seed,
-                                           n_candidates=args.candidates,
-                                           n_optimise=min(3, args.candidates))
-    seconds = time.perf_counter() - start
+    if args.model == "profile":
+        model = _fit_profile(args, heights, operators, data)
+    else:
+        model = _fit_ground(args, heights, operators, data)
+    err(f"({time.perf_counter() - start:.1f} s)")
+    if out is not None:
+        model.save(out)
+        err(f"wrote {out} (roughgp model file; roughgp simulate --from {out.name} ...)")
+    return 0
+
+
+def _fit_profile(args, heights, operators, data):
+    from roughgp.beyond.measured.fit import fit_profile_model
+    z, spacing, how = mean_profile(heights, args.profile_axis)
+    if z.size > MAX_PROFILE_POINTS:
+        raise UsageError(f"{args.file}: the profile has {z.size} points; the exact eq 21 fit "
+                         f"costs O(n^2) per step and takes at most {MAX_PROFILE_POINTS} points "
+                         f"(crop or decimate it)")
+    err(f"fitting Q = {args.mixtures} spectral-mixture components (eq 21) to {z.size} points "
+        f"(spacing {spacing:g} um, {how}) ...")
+    result = fit_profile_model(z, spacing, form=operators["form"], s=operators["s"],
+                               l=operators["l"], num_mixtures=args.mixtures, seed=args.seed,
+                               n_candidates=args.candidates, non_gaussian=args.non_gaussian,
+                               data={**data, "profile": how})
+    fit, model = result.mixture, result.model
     try:
-        dominant = fit.dominant_component
-        period = fit.dominant_period
+        dominant, period = fit.dominant_component, fit.dominant_period
     except ValueError:
         dominant, period = None, math.nan
-
-    components = []
-    for k, (w, mu, v) in enumerate(zip(fit.weights, fit.means, fit.variances)):
-        components.append({"weight_um2": float(w), "frequency_per_um": float(mu),
-                           "period_um": float(1 / mu) if mu > 0 else math.inf,
-                           "line_width_per_um": float(math.sqrt(v)),
-                           "variance_per_um2": float(v)})
     print(f"spectral-mixture fit (eq 21), Q = {args.mixtures}, of {args.file}")
     print_wrapped(f"profile: {how}; {z.size} points, spacing {spacing:g} um "
-                   f"({heights.spacing_source}); least-squares line removed (slope "
-                   f"{line.slope[0]:.3g} um/um)")
+                  f"({heights.spacing_source}); operators: {'; '.join(model.operators)}")
     print(f"  {'k':>2}  {'weight (um^2)':>14}  {'period 1/mu (um)':>17}  "
           f"{'line width (1/um)':>18}  {'':8}")
-    for k, c in enumerate(components):
+    for k, (w, mu, v) in enumerate(zip(fit.weights, fit.means, fit.variances)):
         mark = "dominant" if k == dominant else ""
-        print(f"  {k:>2}  {c['weight_um2']:>14.5g}  {c['period_um']:>17.5g}  "
-              f"{c['line_width_per_um']:>18.4g}  {mark}")
+        p = 1 / mu if mu > 0 else math.inf
+        print(f"  {k:>2}  {w:>14.5g}  {p:>17.5g}  {math.sqrt(v):>18.4g}  {mark}")
     print(f"  noise variance: {fit.noise_variance:.4g} um^2")
     print(f"  log marginal likelihood: {fit.log_marginal_likelihood:.6g}")
     print(f"  dominant period: {period:.5g} um" + ("" if dominant is not None else
                                                     " (no component's period fits)"))
-    print(f"  ({seconds:.1f} s; line width: standard deviation of the spectral Gaussian)")
-    if args.out:
-        write_json(args.out, {
-            "file": str(args.file), "kind": heights.kind, "profile": how,
-            "n_points": int(z.size), "spacing_um": float(spacing),
-            "spacing_from": heights.spacing_source,
-            "levelling": {"offset_um": line.offset, "slope": line.slope[0]},
-            "num_mixtures": args.mixtures, "seed": args.seed,
-            "components": components, "noise_variance_um2": fit.noise_variance,
-            "log_marginal_likelihood": fit.log_marginal_likelihood,
-            "dominant_component": dominant, "dominant_period_um": period,
-            "seconds": round(seconds, 2)})
-    return 0
+    _print_marginal(model)
+    return model
 
+
+def _fit_ground(args, heights, operators, data):
+    from roughgp.beyond.measured.fit import fit_surface_model
+    if heights.kind != "surface":
+        raise UsageError(f"{args.file} holds a profile; fit ground needs a surface z[iy, ix] "
+                         f"(fit a profile with: roughgp fit profile)")
+    z = heights.z
+    if min(z.shape) < args.block:
+        raise UsageError(f"--block {args.block} exceeds the surface's shorter side "
+                         f"({min(z.shape)} points): give --block 4 to {min(min(z.shape), 64)}")
+    missing = np.isnan(z)
+    err(f"{args.file}: {z.shape[0]} x {z.shape[1]} points, spacing "
+        f"{heights.spacing[0]:g} x {heights.spacing[1]:g} um ({heights.spacing_source}), "
+        f"{missing.sum()} missing ({missing.mean():.1%}); fitting eq 18 plus noise ...")
+    try:
+        result = fit_surface_model(z, heights.spacing, **operators, block=args.block,
+                                   n_blocks=args.blocks, seed=args.seed,
+                                   non_gaussian=args.non_gaussian, data=data)
+    except ValueError as exc:
+        raise UsageError(f"{args.file}: {exc}") from None
+    model, fit = result.model, result.block_fit
+    hp = model.hyperparameters
+    print(f"eq 18 plus white noise (eq 8) fitted to {args.file}")
+    print_wrapped(f"operators: {'; '.join(model.operators)}")
+    for note in result.texture.cutoffs.reason.split("; ") if result.texture.cutoffs.reason \
+            else ():
+        print_wrapped(f"note: {note}")
+    print(f"  variance (sigma_k^2)  {hp['variance_um2']:>12.5g} um^2")
+    print(f"  lambda_a (along)      {hp['lambda_a_um']:>12.5g} um")
+    print(f"  lambda_b (across)     {hp['lambda_b_um']:>12.5g} um")
+    print(f"  lay angle phi         {hp['angle_deg']:>12.2f} deg (from x, counter-clockwise)")
+    print(f"  noise variance        {hp['noise_variance_um2']:>12.4g} um^2")
+    print(f"  block composite log likelihood {fit.log_likelihood:.6g} ({fit.n_points} "
+          f"measured points in {len(fit.blocks)} blocks of {args.block} x {args.block})")
+    extent = min(n * d for n, d in zip(z.shape, heights.spacing))
+    if hp["lambda_a_um"] > extent:
+        print_wrapped(f"note: lambda_a exceeds the field's shorter side ({extent:.4g} um): one "
+                      f"field does not pin it down; an L-filter keeps the fit to the roughness")
+    _print_marginal(model)
+    return model
+
+
+def _print_marginal(model):
+    if model.marginal is not None:
+        print(f"  heights kept non-Gaussian: skewness {model.marginal['skewness']:.3g}, "
+              f"kurtosis {model.marginal['kurtosis']:.3g}")

@@ -3,7 +3,8 @@ r"""The ``roughgp`` command: reproduce the paper's claims, simulate surfaces, fi
 A command-line front end to the library, for Jawaid & Seewig, "Model of rough surfaces with
 Gaussian processes" (Surf. Topogr.: Metrol. Prop.). Sub-commands, one module each:
 :mod:`~roughgp.cli.reproduce`, :mod:`~roughgp.cli.simulate`, :mod:`~roughgp.cli.fit`,
-:mod:`~roughgp.cli.texture`, :mod:`~roughgp.cli.fill`; the parser: :mod:`~roughgp.cli.parser`.
+:mod:`~roughgp.cli.texture`, :mod:`~roughgp.cli.check`, :mod:`~roughgp.cli.fill`; the parser:
+:mod:`~roughgp.cli.parser`; shared options: :mod:`~roughgp.cli.options`.
 
 Units: heights and lengths (spacing, lengthscales, feed, periods) are in micrometres (um).
 Exit codes: 0 success, 1 a claim regressed (``reproduce``), 2 a usage or input error (a

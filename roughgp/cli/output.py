@@ -114,14 +114,18 @@ def _check_writable(path: Path, option: str) -> None:
                          "writable")
 
 
+PLOT_FORMATS = (".png", ".pdf", ".svg")
+
+
 def check_outputs(*outputs, inputs=(), force=False) -> list:
     """Check the output files of a command before it computes anything.
 
     ``outputs``: ``(option, path text or None, kind)``, where ``kind`` is ``"heights"`` (a
     format of :data:`roughgp.metrology.writers.WRITE_FORMATS`, by the extension) or
-    ``"json"`` (the extension must be ``.json``). A usage error naming the option refuses an
-    output that is one of ``inputs`` (never written over, even with ``--force``), two options
-    naming one file, an existing file without ``force`` (``--force``), an unwritable place.
+    ``"json"`` (the extension must be ``.json``) or ``"plot"`` (:data:`PLOT_FORMATS`). A
+    usage error naming the option refuses an output that is one of ``inputs`` (never written
+    over, even with ``--force``), two options naming one file, an existing file without
+    ``force`` (``--force``), an unwritable place.
     Returns the paths (None for an option not given), in order.
     """
     paths, given = [], []
@@ -134,9 +138,14 @@ def check_outputs(*outputs, inputs=(), force=False) -> list:
             if path.suffix.lower() != ".json":
                 raise UsageError(f"{option}: this command writes JSON: give a file name "
                                  f"ending in .json, got {text!r}")
+        elif kind == "plot":
+            path = Path(text)
+            if path.suffix.lower() not in PLOT_FORMATS:
+                raise UsageError(f"{option}: a figure is written as "
+                                 f"{', '.join(PLOT_FORMATS)}: got {text!r}")
         else:
             path = check_output(text, option)
-        for source in inputs:
+        for source in (s for s in inputs if s is not None):
             if _same_file(path, Path(source)):
                 raise UsageError(f"{option}: {path} is the input file; roughgp never writes "
                                  "over its input: give another file name")

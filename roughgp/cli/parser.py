@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import argparse
 
-from roughgp.cli import fill, fit, reproduce, simulate, texture
+from roughgp.cli import check, fill, fit, reproduce, simulate, texture
 from roughgp.cli.output import WIDTH
 from roughgp.metrology.measurement import READ_FORMATS
 
@@ -21,7 +21,10 @@ examples:
   roughgp reproduce --out ledger/              check every claim of the paper
   roughgp simulate ground --shape 512 512 --seed 1 --out ground.x3p
   roughgp simulate turned --profile 4096 --seed 1 --out turned.csv
-  roughgp fit turned.csv --out fit.json        spectral-mixture fit (eq 21)
+  roughgp fit profile turned.csv --out profile.json     spectral-mixture fit (eq 21)
+  roughgp fit ground land.x3p --form cylinder --out land.json     eq 18 on a measurement
+  roughgp simulate --from land.json --shape 256 918 --seed 1 --out new.x3p
+  roughgp check land.json land.x3p --plot check.png      the measurement among simulations
   roughgp texture ground.x3p                   ISO 25178-2 parameters (Sq, Ssk, Sal, ...)
   roughgp fill measured.x3p --out filled.x3p   missing (NaN) points filled by the GP
 
@@ -84,5 +87,6 @@ def build_parser() -> argparse.ArgumentParser:
     simulate.add_parser(sub, formatter)
     fit.add_parser(sub, formatter, _INPUT, add_input_options)
     texture.add_parser(sub, formatter, _INPUT, add_input_options)
+    check.add_parser(sub, formatter, _INPUT, add_input_options)
     fill.add_parser(sub, formatter, _INPUT, add_input_options)
     return parser

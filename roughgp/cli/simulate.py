@@ -12,6 +12,7 @@ import dataclasses
 import math
 import secrets
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -40,8 +41,13 @@ a profile as x,z columns; the spacing in a comment line) or .x3p (ISO 25178-72).
 and the spacing are in um; the same --seed gives the same surface. A 1-row --shape 1 N
 writes a profile.
 
+With --from MODEL.json (a model file of 'roughgp fit') and no KIND, the surface is drawn
+from that fitted model instead, at the model's spacing unless --spacing is given (a profile
+model: --shape 1 N).
+
 examples:
   roughgp simulate ground --shape 2000 2000 --seed 1 --out figure2.x3p     (figure 2)
+  roughgp simulate --from land-model.json --shape 256 918 --seed 1 --out new-land.x3p
   roughgp simulate honed --shape 512 512 --seed 1 --out figure3.npy        (figure 3)
   roughgp simulate turned --profile 8192 --seed 1 --out turned.csv"""
 
@@ -89,7 +95,18 @@ def add_parser(sub, formatter) -> None:
     """Add ``simulate`` and its kinds to the sub-command parsers ``sub``."""
     p = sub.add_parser("simulate", formatter_class=formatter, description=_SIMULATE,
                        help="draw a ground, honed or turned surface to .npy/.csv/.x3p")
-    kinds = p.add_subparsers(dest="kind", metavar="KIND", required=True,
+    p.add_argument("--from", dest="model", metavar="MODEL.json",
+                   help="draw from a model file of 'roughgp fit' (give no KIND)")
+    p.add_argument("--shape", nargs=2, type=int, metavar=("NY", "NX"),
+                   help="with --from: points along y and x (a profile model: 1 N)")
+    p.add_argument("--seed", type=int, metavar="S",
+                   help="with --from: random seed (default: a fresh one, printed)")
+    p.add_argument("--out", metavar="FILE", help="with --from: the output file")
+    p.add_argument("--spacing", type=float, metavar="D",
+                   help="with --from: grid spacing in um (default: the model's)")
+    add_force_option(p)
+    p.set_defaults(func=run, kind=None)
+    kinds = p.add_subparsers(dest="kind", metavar="KIND", required=False,
                              title="kinds (roughgp simulate KIND --help for each)")
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("--shape", nargs=2, type=int, metavar=("NY", "NX"),
@@ -270,9 +287,53 @@ def _report_sampler(steps, shape, spacing, method) -> None:
 
 
 
+def _run_model(args) -> int:
+    """``roughgp simulate --from MODEL.json``: draw from a fitted model."""
+    from roughgp.cli.options import load_model
+    if args.out is None:
+        raise UsageError("--out FILE is required (the simulated surface: "
+                         + ", ".join(WRITE_FORMATS) + ")")
+    out, = check_outputs(("--out", args.out, "heights"), inputs=(args.model,), force=args.force)
+    model = load_model(args.model, "--from")
+    shape = _check_shape(args)
+    if model.kind == "profile":
+        if shape[0] != 1:
+            raise UsageError(f"--from {args.model} is a profile model: give --shape 1 N")
+        shape = (shape[1],)
+    elif min(shape) < 2:
+        raise UsageError(f"--from {args.model} is a surface model: give --shape NY NX with "
+                         f"NY, NX >= 2")
+    spacing = model.spacing if args.spacing is None else (args.spacing,) * len(model.spacing)
+    if not all(math.isfinite(d) and d > 0 for d in spacing):
+        raise UsageError(f"--spacing must be > 0 (um), got {args.spacing!r}")
+    seed = args.seed
+    if seed is None:
+        seed = secrets.randbelow(2 ** 31)
+        err(f"seed: {seed} (pass --seed {seed} to draw the same surface again)")
+    err(f"drawing {' x '.join(map(str, shape))} points from {args.model}: {model.describe()}")
+    start = time.perf_counter()
+    z = model.simulate(shape, seed=seed, spacing=spacing)
+    err(f"drawn in {time.perf_counter() - start:.2f} s; Sq = {np.std(z):.4g} um")
+    if len(spacing) == 2 and spacing[0] != spacing[1] and out.suffix.lower() == ".csv":
+        raise UsageError("the model's spacing differs along y and x: a .csv stores one "
+                         "spacing; write .x3p or .npy")
+    comment = f"roughgp simulate --from {Path(args.model).name} --seed {seed}: {model.describe()}"
+    write_heights(out, z, spacing[-1] if len(set(spacing)) == 1 else tuple(spacing), comment)
+    err(f"wrote {out} ({model.kind} of shape {z.shape}, heights in um)")
+    return 0
+
+
 def run(args) -> int:
     """``roughgp simulate KIND``: draw a surface or a profile and write it to ``--out``."""
     from roughgp.models import surfaces, turned
+    if args.kind is None:
+        if args.model is None:
+            raise UsageError("give a KIND (ground, honed, turned) or --from MODEL.json "
+                             "(roughgp simulate --help)")
+        return _run_model(args)
+    if args.model is not None:
+        raise UsageError(f"--from draws from a model file: give it without the KIND "
+                         f"{args.kind!r}")
     shape = _check_shape(args)
     out, = check_outputs(("--out", args.out, "heights"), force=args.force)
     if not (math.isfinite(args.spacing) and args.spacing > 0):

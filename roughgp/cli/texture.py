@@ -4,11 +4,8 @@ handling and the printed table only.
 
 from __future__ import annotations
 
-import argparse
-import math
-
+from roughgp.cli.options import add_operator_options, operator_settings
 from roughgp.cli.output import (
-    UsageError,
     add_force_option,
     check_outputs,
     check_spacing,
@@ -42,36 +39,13 @@ examples:
   roughgp texture ground.x3p --unfiltered"""
 
 
-def _cutoff(text):
-    """A nesting index option: ``auto``, ``none`` or a length in um (> 0)."""
-    if text in ("auto", "none"):
-        return text
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected auto, none or a length in um, got "
-                                         f"{text!r}") from None
-    if not (math.isfinite(value) and value > 0):
-        raise argparse.ArgumentTypeError(f"a nesting index must be > 0 (um), got {text!r}")
-    return value
-
-
 def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     """Add ``texture`` to the sub-command parsers ``sub``."""
     x = sub.add_parser("texture", formatter_class=formatter, description=_TEXTURE,
                        epilog=input_epilog,
                        help="ISO texture parameters (Sq, Sal, Str, ... / Ra, Rq, ...)")
     add_input_options(x)
-    x.add_argument("--form", choices=("plane", "polynomial", "cylinder", "none"),
-                   default="plane", help="F-operator (default plane: a line for a profile)")
-    x.add_argument("--degree", type=int, default=2, metavar="N",
-                   help="degree of --form polynomial (default 2)")
-    x.add_argument("--axis", choices=("auto", "x", "y"), default="auto",
-                   help="the axis of --form cylinder (default auto: the better fit)")
-    x.add_argument("--s-filter", type=_cutoff, default="auto", metavar="S",
-                   help="S-filter nesting index in um, auto (default) or none")
-    x.add_argument("--l-filter", type=_cutoff, default="auto", metavar="L",
-                   help="L-filter nesting index (cut-off) in um, auto (default) or none")
+    add_operator_options(x)
     x.add_argument("--unfiltered", action="store_true",
                    help="no F-, S- or L-operator: the parameters of the heights as read, "
                         "referred to their mean")
@@ -83,19 +57,12 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
 def run(args) -> int:
     """``roughgp texture FILE``: ISO surface-texture parameters."""
     check_spacing(args.spacing)
-    if args.degree < 1:
-        raise UsageError(f"--degree must be >= 1, got {args.degree}")
+    operators = operator_settings(args)
     check_outputs(("--json", args.json, "json"), inputs=(args.file,), force=args.force)
     heights = read_measurement(args.file, kind=args.kind, spacing=args.spacing,
                                channel=args.channel, unit=args.unit)
-    option = {"auto": "auto", "none": None}
-    report = filtered_parameters(
-        heights.z, heights.spacing, form=None if args.form == "none" else args.form,
-        s=option.get(args.s_filter, args.s_filter) if not isinstance(args.s_filter, float)
-        else args.s_filter,
-        l=option.get(args.l_filter, args.l_filter) if not isinstance(args.l_filter, float)
-        else args.l_filter,
-        degree=args.degree, axis=args.axis, filtered=not args.unfiltered)
+    report = filtered_parameters(heights.z, heights.spacing, **operators,
+                                 filtered=not args.unfiltered)
     shape = " x ".join(map(str, heights.z.shape))
     spacing = ", ".join(f"{d:g}" for d in heights.spacing)
     print(f"{report.standard} of {args.file}")

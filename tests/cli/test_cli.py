@@ -52,10 +52,11 @@ def _read_back(path):
 def test_help_mentions_every_command(capsys):
     code, out, _ = _run(capsys, "--help")
     assert code == 0
-    for command in ("reproduce", "simulate", "fit", "texture", "um"):
+    for command in ("reproduce", "simulate", "fit", "texture", "check", "fill", "um"):
         assert command in out
     for argv in (["reproduce"], ["simulate"], ["simulate", "ground"], ["simulate", "honed"],
-                 ["simulate", "turned"], ["fit"], ["texture"]):
+                 ["simulate", "turned"], ["fit"], ["fit", "profile"], ["fit", "ground"],
+                 ["texture"], ["check"], ["fill"]):
         code, out, _ = _run(capsys, *argv, "--help")
         assert code == 0, argv
         assert "example" in out and "roughgp" in out, argv
@@ -251,28 +252,31 @@ def test_simulate_ground_target_errors(capsys, tmp_path, target, extra, message)
 def test_fit_turned_profile(capsys, tmp_path):
     path, _ = _simulate(capsys, tmp_path, "turned", "profile.csv", 0, (1, 1024))
     result = tmp_path / "fit.json"
-    code, out, err = _run(capsys, "fit", path, "--mixtures", 2, "--out", result)
+    code, out, err = _run(capsys, "fit", "profile", path, "--mixtures", 2, "--out", result)
     assert code == 0, err
     for word in ("weight", "period", "line width", "noise variance",
                  "log marginal likelihood", "dominant period"):
         assert word in out
     fit = json.loads(result.read_text())
-    assert fit["num_mixtures"] == 2 and len(fit["components"]) == 2
-    assert fit["n_points"] == 1024 and fit["spacing_um"] == 1.0
-    assert abs(fit["dominant_period_um"] - 250.0) < 0.02 * 250.0
-    assert np.isfinite(fit["log_marginal_likelihood"])
+    assert fit["format"] == "roughgp-model" and fit["equation"] == "eq21"
+    assert len(fit["hyperparameters"]["weights_um2"]) == 2
+    assert fit["data"]["shape"] == [1024] and fit["spacing_um"] == [1.0]
+    hp = fit["hyperparameters"]
+    peak = np.argmax(np.asarray(hp["weights_um2"]) / np.sqrt(hp["spectral_variances_per_um2"]))
+    assert abs(1 / hp["frequencies_per_um"][peak] - 250.0) < 0.02 * 250.0
+    assert np.isfinite(fit["fit"]["log_likelihood"])
 
 
 def test_fit_errors(capsys, tmp_path):
-    code, _, err = _run(capsys, "fit", tmp_path / "missing.csv")
+    code, _, err = _run(capsys, "fit", "profile", tmp_path / "missing.csv")
     assert code == 2 and f"no such file: {tmp_path / 'missing.csv'}" in err
     bad = tmp_path / "bad.csv"
     bad.write_text("this is not\na profile at all\n")
-    code, _, err = _run(capsys, "fit", bad)
+    code, _, err = _run(capsys, "fit", "profile", bad)
     assert code == 2 and "bad.csv" in err and "Traceback" not in err
     ragged = tmp_path / "ragged.csv"
     ragged.write_text("0,1\n1,2,3\n")
-    code, _, err = _run(capsys, "fit", ragged)
+    code, _, err = _run(capsys, "fit", "profile", ragged)
     assert code == 2 and "line 2" in err
     notnpy = tmp_path / "x.npy"
     notnpy.write_text("garbage")
@@ -282,7 +286,7 @@ def test_fit_errors(capsys, tmp_path):
     assert code == 2 and "--spacing" in err
     png = tmp_path / "image.png"
     png.write_bytes(b"\x89PNG")
-    code, _, err = _run(capsys, "fit", png)
+    code, _, err = _run(capsys, "fit", "profile", png)
     assert code == 2 and ".x3p" in err
 
 
@@ -353,10 +357,12 @@ def test_fill_writes_the_filled_surface_and_its_sd(capsys, tmp_path):
 
 
 @pytest.mark.parametrize("extra, message", [
-    (("--samples", "1", "--sd", "SD"), "--sd needs --samples >= 2"),
-    (("--samples", "-1"), "--samples must be >= 0"),
+    (("--method", "global", "--samples", "1", "--sd", "SD"), "--sd needs --samples >= 2"),
+    (("--samples", "-1"), "--samples must be in [0, 256]"),
+    (("--samples", "100000"), "--samples must be in [0, 256]"),
     (("--device", "gpu"), "--device must be None"),
-    (("--block", "3"), "block must be an integer >= 4"),
+    (("--block", "3"), "--block must be in [4, 64]"),
+    (("--blocks", "100000"), "--blocks must be in [1, 200]"),
 ])
 def test_fill_rejects_bad_options(capsys, tmp_path, extra, message):
     path, _ = _holed_surface(tmp_path)

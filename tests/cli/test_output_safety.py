@@ -82,13 +82,13 @@ def test_texture_json_never_writes_over_its_input(capsys, profile):
 
 def test_fit_never_writes_over_its_input(capsys, profile):
     same = _unchanged(profile)
-    code, _, err = _run(capsys, "fit", profile, "--out", profile)
+    code, _, err = _run(capsys, "fit", "profile", profile, "--out", profile)
     assert code == 2 and "--out" in err and "writes JSON" in err
     assert same()
 
 
 def test_fit_out_must_be_json(capsys, profile, tmp_path):
-    code, _, err = _run(capsys, "fit", profile, "--out", tmp_path / "fit.npy")
+    code, _, err = _run(capsys, "fit", "profile", profile, "--out", tmp_path / "fit.npy")
     assert code == 2 and "writes JSON" in err and ".json" in err
     assert not (tmp_path / "fit.npy").exists()
 
@@ -115,7 +115,7 @@ def test_texture_and_fit_need_force_to_write_over_a_json(capsys, profile, tmp_pa
     code, _, err = _run(capsys, "texture", profile, "--json", target, "--force")
     assert code == 0, err
     assert "parameters" in target.read_text()
-    code, _, err = _run(capsys, "fit", profile, "--out", target, "--mixtures", 1)
+    code, _, err = _run(capsys, "fit", "profile", profile, "--out", target, "--mixtures", 1)
     assert code == 2 and "--out" in err and "--force" in err and "fitting" not in err
 
 

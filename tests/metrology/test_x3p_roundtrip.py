@@ -162,7 +162,7 @@ def test_fill_writes_back_the_input_meta_and_what_it_did(tmp_path, capsys):
     assert code == 0, capsys.readouterr().err
     meta = x3p.read_x3p(out).meta
     assert meta["creator"] == "Lab C"
-    assert meta["comment"].startswith("roughgp fill holes.x3p --seed 0: levelled")
+    assert meta["comment"].startswith("roughgp fill holes.x3p --seed 0: the form")
     assert "2 missing points filled by the GP posterior mean" in meta["comment"]
     assert meta["comment"].endswith("the input's comment: raw")
     np.testing.assert_allclose(meta["offset"], (10.0, 20.0, 1.0), rtol=1e-12)

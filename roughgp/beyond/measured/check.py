@@ -1,9 +1,10 @@
 r"""Does a fitted model reproduce the measurement? Texture parameters of simulations against
 the measurement's (beyond the paper).
 
-:func:`check_model` applies the model's operators (F, S, L; a simulation's F-operator is the
-plane, it has no form) to the measurement and to ``n_simulations`` seeded draws of the model on
-the measurement's grid, computes the ISO 25178-2 (surface) or ISO 4287 / 13565-2 (profile)
+:func:`check_model` applies the model's operators (F, S, L) to the measurement, which gives
+the heights the model was fitted to, draws ``n_simulations`` seeded surfaces of the model on
+the measurement's grid (they are already such heights: only their least-squares plane is
+removed, no filter is applied twice), computes the ISO 25178-2 (surface) or ISO 4287 / 13565-2 (profile)
 parameters of each, and places the measurement in the simulated spread: its rank among the
 simulations, and whether it lies outside their range. With ``n`` simulations a measurement
 that the model describes falls outside their range with probability ``2 / (n + 1)`` (a
@@ -216,7 +217,6 @@ def plot_model_check(check: ModelCheck, path=None, *, title=None):
         ax.set_visible(False)
     fig.suptitle(title or f"the measurement (line) among {check.n_simulations} simulations "
                  f"of the model (dots)", fontsize=10)
-    fig.tight_layout()
     if path is not None:
         fig.savefig(path, dpi=120)
     return fig

@@ -5,11 +5,18 @@ The pipeline of ``roughgp fill``, as one call: remove the form (the F-operator,
 curved part), fit eq 18 plus white noise (eq 8) on the measured points alone
 (:func:`roughgp.inference.block_fit.fit_ground_to_valid_points`) or take the hyperparameters of
 a fitted model (:class:`~roughgp.beyond.measured.model.FittedModel`), fill the missing points
-with the GP posterior mean (and sd) of the form-removed surface
-(:func:`roughgp.beyond.gap_filling.fill_gaps`), and add the form back, so that the filled map is
-in the measurement's own heights. The fill works on the form-removed heights only: a model
+with the GP posterior mean and sd of the form-removed surface, and add the form back, so that
+the filled map is in the measurement's own heights. The fill works on the form-removed heights only: a model
 fitted after S- or L-filters describes filtered heights, so its filters are not applied here
 (the fill is of the measurement, not of its roughness).
+
+Two solvers: ``method="local"`` (the default) is moving-window kriging
+(:func:`roughgp.beyond.local_fill.fill_gaps_locally`): bounded work, an exact sd for each
+window, no circulant embedding; it holds on real measurements, whose fitted correlation
+lengths may exceed the field and whose noise may be near zero. ``method="global"`` conditions on
+all measured points (:func:`roughgp.beyond.gap_filling.fill_gaps`: conjugate gradients and
+pathwise draws for the sd), best for synthetic, well-conditioned cases; its CG may not
+converge on such measurements (``gaps.converged`` says so).
 """
 
 from __future__ import annotations
@@ -19,6 +26,7 @@ import dataclasses
 import numpy as np
 
 from roughgp.beyond.gap_filling import GapFill, fill_gaps
+from roughgp.beyond.local_fill import LocalFill, fill_gaps_locally
 from roughgp.beyond.measured.model import FittedModel
 from roughgp.common.grid import normalize
 from roughgp.inference.block_fit import BlockFit, fit_ground_to_valid_points
@@ -40,7 +48,10 @@ class MeasuredFill:
         form: the F-operator's fit removed before the fill and added back.
         fit: the eq 18 fit on the measured points (None when a model was given).
         kernel, noise_variance: what the fill used.
-        gaps: the fill of the form-removed surface (:class:`~roughgp.beyond.gap_filling.GapFill`).
+        gaps: the fill of the form-removed surface: a
+            :class:`~roughgp.beyond.local_fill.LocalFill` (``method="local"``) or a
+            :class:`~roughgp.beyond.gap_filling.GapFill` (``"global"``).
+        method: ``"local"`` or ``"global"``.
     """
 
     filled: np.ndarray
@@ -50,27 +61,33 @@ class MeasuredFill:
     fit: BlockFit | None
     kernel: object
     noise_variance: float
-    gaps: GapFill
+    gaps: LocalFill | GapFill
+    method: str = "local"
 
 
 def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, n_blocks=12,
                           form="plane", degree=2, axis="auto", model=None,
-                          mask=None, device=None) -> MeasuredFill:
+                          mask=None, method="local", tile=24, margin=6,
+                          device=None) -> MeasuredFill:
     """Remove the form, fit eq 18 on the measured points (or use ``model``), fill the NaN
     (and ``mask``-ed) points, add the form back.
 
     Args:
         z: height map ``z[iy, ix]`` with NaN where not measured.
         spacing: scalar or ``(dy, dx)``.
-        n_samples: pathwise draws for the sd (0: the mean only, far quicker).
+        n_samples: ``method="global"``: pathwise draws for the sd (0: the mean only, far
+            quicker); the local sd is exact and needs none.
         seed: int or None: the fit's blocks and the draws.
-        block, n_blocks: the fit's blocks (:func:`~roughgp.inference.block_fit.fit_ground_to_valid_points`).
+        block, n_blocks: the fit's blocks
+            (:func:`~roughgp.inference.block_fit.fit_ground_to_valid_points`).
         form, degree, axis: the F-operator (:func:`~roughgp.metrology.form.remove_form`).
         model: a :class:`~roughgp.beyond.measured.model.FittedModel` of eq 18 whose kernel and
             noise are used instead of a fit.
         mask: optional boolean map: measured points to treat as missing as well (e.g. to hide
             them for a cross-validation).
-        device: None (numpy) or a torch device for the fill (:mod:`roughgp.common.device`).
+        method: ``"local"`` (moving-window kriging, ``tile`` and ``margin`` in points) or
+            ``"global"`` (module docstring).
+        device: ``"global"`` only: None (numpy) or a torch device (:mod:`roughgp.common.device`).
     """
     z = np.asarray(z, dtype=np.float64)
     if z.ndim != 2:
@@ -84,6 +101,8 @@ def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, 
         missing = missing | mask
     if not missing.any():
         raise ValueError("z has no missing (NaN) point: nothing to fill")
+    if method not in ("local", "global"):
+        raise ValueError(f"method must be 'local' or 'global', got {method!r}")
     if model is not None and (not isinstance(model, FittedModel) or model.equation != "eq18"):
         raise ValueError("model must be a FittedModel of eq 18 (a surface model)")
     _, (dy, dx) = normalize(z.shape, spacing)
@@ -96,10 +115,15 @@ def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, 
         kernel, noise_variance = fit.kernel, fit.noise_variance
     else:
         kernel, noise_variance = model.kernel(), model.noise_variance
-    gaps = fill_gaps(residual, kernel, noise_variance=noise_variance, spacing=(dy, dx),
-                     n_samples=n_samples, seed=seed, device=device)
+    if method == "local":
+        gaps = fill_gaps_locally(residual, kernel, noise_variance=noise_variance,
+                                 spacing=(dy, dx), mask=mask, tile=tile, margin=margin)
+    else:
+        gaps = fill_gaps(residual, kernel, noise_variance=noise_variance, spacing=(dy, dx),
+                         mask=mask, n_samples=n_samples, seed=seed, device=device)
     form_part = form_heights(form_fit, z.shape, (dy, dx))
     filled = np.where(missing, gaps.mean + form_part, z)
     sd = np.where(missing, gaps.sd, 0.0)
     return MeasuredFill(filled=filled, sd=sd, missing=missing, form=form_fit, fit=fit,
-                        kernel=kernel, noise_variance=float(noise_variance), gaps=gaps)
+                        kernel=kernel, noise_variance=float(noise_variance), gaps=gaps,
+                        method=method)

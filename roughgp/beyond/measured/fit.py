@@ -55,12 +55,13 @@ class ProfileModelFit:
 
 def apply_operators(z, spacing, cutoffs, *, simulated=False) -> Texture:
     """The model's operators (``model.cutoffs``) applied to heights ``z``. ``simulated``: the
-    heights are a simulation of the model, which has no form: its F-operator is then the plane
-    (or line) alone, so that a cylinder or polynomial is not fitted to a flat surface."""
-    form = cutoffs.get("form", "plane")
-    if simulated and form is not None:
-        form = "plane"
-    return surface_texture(z, spacing, form=form, s=cutoffs.get("s_um"), l=cutoffs.get("l_um"),
+    heights are a simulation of the model, which describes the heights *after* the operators
+    (it was fitted to them): only the least-squares plane (or line) is removed from them, so
+    that neither a form is fitted to a surface that has none nor the filters applied twice."""
+    if simulated:
+        return surface_texture(z, spacing, form="plane", s=None, l=None)
+    return surface_texture(z, spacing, form=cutoffs.get("form", "plane"),
+                           s=cutoffs.get("s_um"), l=cutoffs.get("l_um"),
                            degree=int(cutoffs.get("degree", 2)),
                            axis=cutoffs.get("axis", "auto"))
 

@@ -1,0 +1,103 @@
+"""``roughgp check MODEL.json FILE``: does the fitted model reproduce the measurement?
+(:func:`roughgp.beyond.measured.check.check_model`). Argument handling and the table only.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+from roughgp.cli.options import load_model
+from roughgp.cli.output import (
+    UsageError,
+    add_force_option,
+    check_outputs,
+    check_spacing,
+    err,
+    print_wrapped,
+    write_json,
+)
+from roughgp.metrology.measurement import read_measurement
+
+__all__ = ['add_parser', 'run']
+
+_CHECK = """\
+Place the texture parameters of a measurement among those of N simulations of a fitted
+model (a model file of 'roughgp fit'): the model's operators (form removal, S- and
+L-filters) are applied to both; for each parameter the measured value, the simulated range
+and median, and the measurement's rank among the simulations. A parameter whose measured
+value lies outside the simulated range is named: with N simulations a model that describes
+the measurement puts it outside with probability 2 / (N + 1) (10 % for the default 19), so
+an outside parameter is evidence against the model, an inside one no proof for it. A
+Gaussian model (eq 8) shows here what it misses: skewness, kurtosis, Spk / Svk. Holes: the
+height parameters are of the measured points (the simulations get the same holes), Sal,
+Str, Std of the measurement filled by the model. --plot writes a figure (.png, .pdf, .svg).
+
+example:
+  roughgp check land-model.json land.x3p --simulations 19 --seed 0 --plot check.png"""
+
+
+def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
+    """Add ``check`` to the sub-command parsers ``sub``."""
+    c = sub.add_parser("check", formatter_class=formatter, description=_CHECK,
+                       epilog=input_epilog,
+                       help="texture parameters of a measurement against a model's simulations")
+    c.add_argument("model", metavar="MODEL.json", help="a model file of 'roughgp fit'")
+    add_input_options(c, kind=False, what="the measurement the model was fitted to (or another)")
+    c.add_argument("--simulations", type=int, default=19, metavar="N",
+                   help="simulations of the model, 2 to 999 (default 19)")
+    c.add_argument("--seed", type=int, default=0, metavar="S",
+                   help="seed of the simulations (default 0)")
+    c.add_argument("--plot", metavar="FIGURE", help="write the figure (.png, .pdf or .svg)")
+    c.add_argument("--json", metavar="OUT", help="also write the table as JSON (.json)")
+    add_force_option(c)
+    c.set_defaults(func=run)
+
+
+def run(args) -> int:
+    """``roughgp check MODEL FILE``."""
+    from roughgp.beyond.measured.check import check_model, plot_model_check
+    check_spacing(args.spacing)
+    if not 2 <= args.simulations <= 999:
+        raise UsageError(f"--simulations must be in [2, 999], got {args.simulations}")
+    json_out, plot = check_outputs(("--json", args.json, "json"), ("--plot", args.plot, "plot"),
+                                   inputs=(args.file, args.model), force=args.force)
+    model = load_model(args.model)
+    heights = read_measurement(args.file, kind=model.kind, spacing=args.spacing,
+                               channel=args.channel, unit=args.unit)
+    if heights.kind != model.kind:
+        raise UsageError(f"{args.file} holds a {heights.kind}; {args.model} is a {model.kind} "
+                         f"model")
+    err(f"simulating {args.simulations} {model.kind}s of {' x '.join(map(str, heights.z.shape))}"
+        f" points from {args.model} ...")
+    start = time.perf_counter()
+    result = check_model(model, heights.z, heights.spacing if model.kind == "surface"
+                         else (heights.spacing[-1],), n_simulations=args.simulations,
+                         seed=args.seed)
+    err(f"({time.perf_counter() - start:.1f} s)")
+    print(f"{args.file} against {args.simulations} simulations of {args.model}")
+    print_wrapped(f"model: {model.describe()}")
+    print_wrapped("operators (on both): " + "; ".join(result.operators))
+    for note in result.notes:
+        print_wrapped(f"note: {note}")
+    print(f"  {'':5} {'measured':>11} {'sim. min':>11} {'median':>11} {'sim. max':>11} "
+          f"{'rank':>8}")
+    for p in result.parameters:
+        verdict = "OUTSIDE" if p.outside else ""
+        print(f"  {p.name:<5} {_num(p.measured)} {_num(p.low)} {_num(p.median)} "
+              f"{_num(p.high)} {p.rank:>4}/{args.simulations:<3} {verdict} {p.unit}".rstrip())
+    outside = result.outside
+    print_wrapped(("outside the simulated range: " + ", ".join(outside)) if outside else
+                  "every parameter lies within the simulated range")
+    if json_out is not None:
+        write_json(json_out, {"file": str(args.file), "model": str(args.model),
+                              "seed": args.seed, **result.to_dict()})
+    if plot is not None:
+        plot_model_check(result, plot, title=f"{args.file}: the measurement (line) among "
+                                             f"{args.simulations} simulations (dots)")
+        err(f"wrote {plot}")
+    return 0
+
+
+def _num(value) -> str:
+    return f"{value:>11.4g}" if math.isfinite(value) else f"{'nan':>11}"

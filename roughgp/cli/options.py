@@ -1,0 +1,65 @@
+"""Options that several commands share: the F-, S- and L-operators (texture, fit) and a
+model file (simulate, check, fill). Argument handling only.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+from roughgp.cli.output import UsageError
+
+__all__ = ["cutoff", "add_operator_options", "operator_settings", "load_model"]
+
+
+def cutoff(text):
+    """A nesting index option: ``auto``, ``none`` or a length in um (> 0)."""
+    if text in ("auto", "none"):
+        return text
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected auto, none or a length in um, got "
+                                         f"{text!r}") from None
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"a nesting index must be > 0 (um), got {text!r}")
+    return value
+
+
+def add_operator_options(parser, *, s_default="auto", l_default="auto") -> None:
+    """--form, --degree, --axis, --s-filter, --l-filter."""
+    parser.add_argument("--form", choices=("plane", "polynomial", "cylinder", "none"),
+                        default="plane", help="F-operator (default plane: a line for a profile)")
+    parser.add_argument("--degree", type=int, default=2, metavar="N",
+                        help="degree of --form polynomial (default 2)")
+    parser.add_argument("--axis", choices=("auto", "x", "y"), default="auto",
+                        help="the axis of --form cylinder (default auto: the better fit)")
+    parser.add_argument("--s-filter", type=cutoff, default=s_default, metavar="S",
+                        help=f"S-filter nesting index in um, auto or none (default {s_default})")
+    parser.add_argument("--l-filter", type=cutoff, default=l_default, metavar="L",
+                        help=f"L-filter nesting index (cut-off) in um, auto or none (default "
+                             f"{l_default})")
+
+
+def operator_settings(args) -> dict:
+    """``form``, ``s``, ``l``, ``degree``, ``axis`` for the library from the options."""
+    if args.degree < 1:
+        raise UsageError(f"--degree must be >= 1, got {args.degree}")
+
+    def length(value):
+        return None if value == "none" else value
+
+    return {"form": None if args.form == "none" else args.form, "s": length(args.s_filter),
+            "l": length(args.l_filter), "degree": args.degree, "axis": args.axis}
+
+
+def load_model(path, option="MODEL"):
+    """A model file (:class:`roughgp.beyond.measured.model.FittedModel`); a usage error says
+    what is wrong with it."""
+    from roughgp.beyond.measured.model import FittedModel, ModelFileError
+    try:
+        return FittedModel.load(path)
+    except FileNotFoundError:
+        raise UsageError(f"{option}: no such model file: {path}") from None
+    except ModelFileError as exc:
+        raise UsageError(f"{option}: {exc}") from None
