@@ -93,8 +93,10 @@ def run(args) -> int:
         write_json(json_out, {"file": str(args.file), "model": str(args.model),
                               "seed": args.seed, **result.to_dict()})
     if plot is not None:
-        plot_model_check(result, plot, title=f"{args.file}: the measurement (line) among "
-                                             f"{args.simulations} simulations (dots)")
+        import matplotlib.pyplot as plt
+        figure = plot_model_check(result, plot, title=f"{args.file}: the measurement (line) "
+                                                      f"among {args.simulations} simulations")
+        plt.close(figure)
         err(f"wrote {plot}")
     return 0
 
