@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from roughgp.cli.options import add_form_options
 from roughgp.cli.output import (
     UsageError,
     add_force_option,
@@ -52,12 +53,7 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     f.add_argument("--sd", metavar="FILE", help="also write the posterior sd map")
     f.add_argument("--model", metavar="MODEL.json",
                    help="use this eq 18 model file (roughgp fit ground) instead of a fit")
-    f.add_argument("--form", choices=("plane", "polynomial", "cylinder", "none"),
-                   default="plane", help="F-operator removed and added back (default plane)")
-    f.add_argument("--degree", type=int, default=2, metavar="N",
-                   help="degree of --form polynomial (default 2)")
-    f.add_argument("--axis", choices=("auto", "x", "y"), default="auto",
-                   help="the axis of --form cylinder (default auto: the better fit)")
+    add_form_options(f, "F-operator removed and added back")
     f.add_argument("--method", choices=("local", "global"), default="local",
                    help="local (default): moving-window kriging; global: all points by CG")
     f.add_argument("--samples", type=int, default=16, metavar="N",

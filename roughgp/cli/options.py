@@ -9,7 +9,7 @@ import math
 
 from roughgp.cli.output import UsageError
 
-__all__ = ["cutoff", "add_operator_options", "operator_settings", "load_model"]
+__all__ = ["cutoff", "add_form_options", "add_operator_options", "operator_settings", "load_model"]
 
 
 def cutoff(text):
@@ -26,14 +26,19 @@ def cutoff(text):
     return value
 
 
-def add_operator_options(parser, *, s_default="auto", l_default="auto") -> None:
-    """--form, --degree, --axis, --s-filter, --l-filter."""
+def add_form_options(parser, what="F-operator") -> None:
+    """--form, --degree, --axis: the F-operator."""
     parser.add_argument("--form", choices=("plane", "polynomial", "cylinder", "none"),
-                        default="plane", help="F-operator (default plane: a line for a profile)")
+                        default="plane", help=f"{what} (default plane: a line for a profile)")
     parser.add_argument("--degree", type=int, default=2, metavar="N",
                         help="degree of --form polynomial (default 2)")
     parser.add_argument("--axis", choices=("auto", "x", "y"), default="auto",
                         help="the axis of --form cylinder (default auto: the better fit)")
+
+
+def add_operator_options(parser, *, s_default="auto", l_default="auto") -> None:
+    """--form, --degree, --axis, --s-filter, --l-filter."""
+    add_form_options(parser)
     parser.add_argument("--s-filter", type=cutoff, default=s_default, metavar="S",
                         help=f"S-filter nesting index in um, auto or none (default {s_default})")
     parser.add_argument("--l-filter", type=cutoff, default=l_default, metavar="L",
