@@ -58,6 +58,9 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                    help="degree of --form polynomial (default 2)")
     f.add_argument("--axis", choices=("auto", "x", "y"), default="auto",
                    help="the axis of --form cylinder (default auto: the better fit)")
+    f.add_argument("--nu", type=float, choices=(0.5, 1.5, 2.5), default=0.5,
+                   help="smoothness of the fitted kernel: 0.5 is eq 18 (default); 1.5, 2.5 "
+                        "a smoother Matern profile (ignored with --model)")
     f.add_argument("--method", choices=("local", "global"), default="local",
                    help="local (default): moving-window kriging; global: all points by CG")
     f.add_argument("--samples", type=int, default=16, metavar="N",
@@ -93,9 +96,9 @@ def run(args) -> int:
     if args.degree < 1:
         raise UsageError(f"--degree must be >= 1, got {args.degree}")
     model = load_model(args.model, "--model") if args.model else None
-    if model is not None and model.equation != "eq18":
+    if model is not None and model.kind != "surface":
         raise UsageError(f"--model {args.model} is a {model.kind} model ({model.equation}); "
-                         f"fill needs an eq 18 surface model (roughgp fit ground)")
+                         f"fill needs a surface model (roughgp fit ground)")
     check_device(args.device)
     check_spacing(args.spacing)
     heights = read_measurement(args.file, kind="surface", spacing=args.spacing,
@@ -121,7 +124,7 @@ def run(args) -> int:
                                        seed=args.seed, block=args.block, n_blocks=args.blocks,
                                        form=None if args.form == "none" else args.form,
                                        degree=args.degree, axis=args.axis, model=model,
-                                       method=args.method, device=args.device)
+                                       method=args.method, nu=args.nu, device=args.device)
     except ValueError as exc:
         raise UsageError(f"{args.file}: {exc}") from None
     fit, fill = result.fit, result.gaps

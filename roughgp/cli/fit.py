@@ -104,6 +104,9 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                           help="eq 18 + noise on a measured surface with holes")
     add_input_options(g, kind=False, what="the surface, heights in um, NaN where missing")
     add_operator_options(g, s_default="none", l_default="auto")
+    g.add_argument("--nu", type=float, choices=(0.5, 1.5, 2.5), default=0.5,
+                   help="smoothness: 0.5 is eq 18 (default); 1.5 or 2.5 its anisotropy with a "
+                        "smoother Matern profile, for smooth surfaces (beyond the paper)")
     g.add_argument("--block", type=int, default=24, metavar="B",
                    help="side of the fit's blocks in points, 4 to 64 (default 24)")
     g.add_argument("--blocks", type=int, default=12, metavar="K",
@@ -204,13 +207,14 @@ def _fit_ground(args, heights, operators, data):
         f"{missing.sum()} missing ({missing.mean():.1%}); fitting eq 18 plus noise ...")
     try:
         result = fit_surface_model(z, heights.spacing, **operators, block=args.block,
-                                   n_blocks=args.blocks, seed=args.seed,
+                                   n_blocks=args.blocks, seed=args.seed, nu=args.nu,
                                    non_gaussian=args.non_gaussian, data=data)
     except ValueError as exc:
         raise UsageError(f"{args.file}: {exc}") from None
     model, fit = result.model, result.block_fit
     hp = model.hyperparameters
-    print(f"eq 18 plus white noise (eq 8) fitted to {args.file}")
+    name = "eq 18" if args.nu == 0.5 else f"eq 18 with a Matern nu = {args.nu:g} profile"
+    print(f"{name} plus white noise (eq 8) fitted to {args.file}")
     print_wrapped(f"operators: {'; '.join(model.operators)}")
     for note in result.texture.cutoffs.reason.split("; ") if result.texture.cutoffs.reason \
             else ():
