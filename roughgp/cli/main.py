@@ -46,6 +46,13 @@ def main(argv=None) -> int:
         err(f"{name}: error: {exc.strerror or exc}"
              + (f": {exc.filename}" if getattr(exc, "filename", None) else ""))
         return 2
+    except OverflowError as exc:  # a safety net: the options' ranges should catch it first
+        err(f"{name}: error: a number overflowed ({exc}): an option or the data is out of "
+            f"range")
+        return 2
+    except MemoryError:  # a safety net: sizes are budgeted before the large arrays
+        err(f"{name}: error: out of memory: use a smaller input or size")
+        return 2
     except KeyboardInterrupt:
         err(f"{name}: interrupted")
         return 130
