@@ -24,6 +24,7 @@ from roughgp.cli.output import (
     describe_groove,
     err,
 )
+from roughgp.cli.options import check_scales
 from roughgp.metrology.writers import WRITE_FORMATS, write_heights
 
 __all__ = ['MAX_SIMULATE_POINTS', 'add_parser', 'run']
@@ -303,9 +304,8 @@ def _run_model(args) -> int:
     elif min(shape) < 2:
         raise UsageError(f"--from {args.model} is a surface model: give --shape NY NX with "
                          f"NY, NX >= 2")
+    check_scales(("--spacing", args.spacing, False))
     spacing = model.spacing if args.spacing is None else (args.spacing,) * len(model.spacing)
-    if not all(math.isfinite(d) and d > 0 for d in spacing):
-        raise UsageError(f"--spacing must be > 0 (um), got {args.spacing!r}")
     seed = args.seed
     if seed is None:
         seed = secrets.randbelow(2 ** 31)
@@ -313,6 +313,7 @@ def _run_model(args) -> int:
     err(f"drawing {' x '.join(map(str, shape))} points from {args.model}: {model.describe()}")
     start = time.perf_counter()
     z = model.simulate(shape, seed=seed, spacing=spacing)
+    _check_drawn(z)
     err(f"drawn in {time.perf_counter() - start:.2f} s; Sq = {np.std(z):.4g} um")
     if len(spacing) == 2 and spacing[0] != spacing[1] and out.suffix.lower() == ".csv":
         raise UsageError("the model's spacing differs along y and x: a .csv stores one "
@@ -321,6 +322,29 @@ def _run_model(args) -> int:
     write_heights(out, z, spacing[-1] if len(set(spacing)) == 1 else tuple(spacing), comment)
     err(f"wrote {out} ({model.kind} of shape {z.shape}, heights in um)")
     return 0
+
+
+def _check_option_scales(args) -> None:
+    """The lengths and variances given: finite, in the library's range of scales."""
+    options = [("--spacing", args.spacing, False)]
+    options += [(name, getattr(args, attr, None), zero) for name, attr, zero in (
+        ("--noise-variance", "noise_variance", True), ("--variance", "variance", False),
+        ("--lambda-a", "lambda_a", False), ("--lambda-b", "lambda_b", False),
+        ("--feed", "feed", False), ("--nose-radius", "nose_radius", False),
+        ("--noise-sd", "noise_sd", True))]
+    for v, a, b, _ in getattr(args, "step", None) or ():
+        options += [("--step VARIANCE", v, False), ("--step LAMBDA_A", a, False),
+                    ("--step LAMBDA_B", b, False)]
+    check_scales(*options)
+
+
+def _check_drawn(z) -> None:
+    """A non-finite height is an error naming the options that set the scales."""
+    if not np.all(np.isfinite(z)):
+        raise UsageError(f"the drawn heights are not all finite ({np.count_nonzero(~np.isfinite(z))}"
+                         f" of {z.size}): the scales of --spacing, the variances and the "
+                         f"correlation lengths are too far apart for float64; nothing was "
+                         f"written")
 
 
 def run(args) -> int:
@@ -336,8 +360,7 @@ def run(args) -> int:
                          f"{args.kind!r}")
     shape = _check_shape(args)
     out, = check_outputs(("--out", args.out, "heights"), force=args.force)
-    if not (math.isfinite(args.spacing) and args.spacing > 0):
-        raise UsageError(f"--spacing must be > 0 (um), got {args.spacing!r}")
+    _check_option_scales(args)
     seed = args.seed
     if seed is None:
         seed = secrets.randbelow(2 ** 31)
@@ -389,6 +412,7 @@ def run(args) -> int:
     z = np.asarray(draw(), dtype=np.float64)
     if z.ndim == 2 and z.shape[0] == 1:
         z = z[0]  # one row: a profile along x
+    _check_drawn(z)
     err(f"drawn in {time.perf_counter() - start:.2f} s; Sq = {np.std(z):.4g} um")
     if wanted is not None:
         _report_achieved(z, args.spacing, wanted)
