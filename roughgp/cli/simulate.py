@@ -23,6 +23,7 @@ from roughgp.cli.output import (
     check_outputs,
     describe_groove,
     err,
+    rename_parameters,
 )
 from roughgp.cli.options import check_scales
 from roughgp.metrology.writers import WRITE_FORMATS, write_heights
@@ -250,7 +251,8 @@ def _target_groove(args, shape):
         hyper = targets.hyperparameters_for(**values, noise_variance=args.noise_variance,
                                             spacing=args.spacing)
     except ValueError as exc:
-        raise UsageError(f"--target: {exc}") from None
+        message = rename_parameters(str(exc), {"noise_variance": "--noise-variance"})
+        raise UsageError(f"--target: {message}") from None
     err(f"target Sq {values['Sq']:g} um, Sal {values['Sal']:g} um, Str {values['Str']:g}, "
          f"Std {values['Std']:g} deg -> hyperparameters (closed form, roughgp.beyond.targets): "
          f"{describe_groove(hyper.groove)}, noise variance {hyper.noise_variance:g} um^2")
@@ -332,10 +334,43 @@ def _check_option_scales(args) -> None:
         ("--lambda-a", "lambda_a", False), ("--lambda-b", "lambda_b", False),
         ("--feed", "feed", False), ("--nose-radius", "nose_radius", False),
         ("--noise-sd", "noise_sd", True))]
-    for v, a, b, _ in getattr(args, "step", None) or ():
+    angle = getattr(args, "angle_deg", None)
+    if angle is not None and not math.isfinite(angle):
+        raise UsageError(f"--angle-deg must be a finite angle in degrees, got {angle}")
+    for v, a, b, phi in getattr(args, "step", None) or ():
         options += [("--step VARIANCE", v, False), ("--step LAMBDA_A", a, False),
                     ("--step LAMBDA_B", b, False)]
+        if not math.isfinite(phi):
+            raise UsageError(f"--step ANGLE_DEG must be a finite angle in degrees, got {phi}")
     check_scales(*options)
+
+
+#: The turned model's parameters, as the options of ``simulate turned`` name them.
+_TURNED_OPTIONS = {"n": "--profile", "shape": "--shape", "feed": "--feed",
+                   "nose_radius": "--nose-radius", "noise_sd": "--noise-sd"}
+
+
+def _in_options(function, names):
+    """``function`` whose ValueErrors name the options (``names``), not the library's words."""
+    def call(*a, **k):
+        try:
+            return function(*a, **k)
+        except ValueError as exc:
+            raise UsageError(rename_parameters(str(exc), names)) from None
+    return call
+
+
+def _turned_parameters(args):
+    """RUBERT_LIKE with --feed, --nose-radius, --noise-sd on top; errors name the options."""
+    from roughgp.models import turned
+    preset = turned.RUBERT_LIKE
+    changes = {k: v for k, v in (("feed", args.feed), ("nose_radius", args.nose_radius),
+                                 ("noise_sd", args.noise_sd)) if v is not None}
+    if "feed" in changes and not changes["feed"] > 4 * preset.feed_jitter:
+        raise UsageError(f"--feed must be > 4 x the feed-mark jitter of the model "
+                         f"({preset.feed_jitter:g} um) = {4 * preset.feed_jitter:g} um, got "
+                         f"{changes['feed']:g}")
+    return _in_options(dataclasses.replace, _TURNED_OPTIONS)(preset, **changes)
 
 
 def _check_drawn(z) -> None:
@@ -395,9 +430,7 @@ def run(args) -> int:
                                       spacing=args.spacing, seed=seed, method=method,
                                       device=device)
     else:
-        changes = {k: v for k, v in (("feed", args.feed), ("nose_radius", args.nose_radius),
-                                     ("noise_sd", args.noise_sd)) if v is not None}
-        params = dataclasses.replace(turned.RUBERT_LIKE, **changes)
+        params = _turned_parameters(args)
         label = (f"{what} turned {'surface ' if ny > 1 else ''}(feed {params.feed:g} um, nose "
                  f"radius {params.nose_radius:g} um, Rt about {params.rt:.3g} um)")
         if ny == 1:
@@ -406,6 +439,8 @@ def run(args) -> int:
         else:
             draw = lambda: turned.turned_surface(shape, args.spacing, params,  # noqa: E731
                                                seed=seed)
+        draw = _in_options(draw, {**_TURNED_OPTIONS, "n": "--profile" if args.profile
+                                  is not None else "NX of --shape 1 NX"})
 
     err(f"drawing {label} ...")
     start = time.perf_counter()
