@@ -376,10 +376,10 @@ def _turned_parameters(args):
 def _check_drawn(z) -> None:
     """A non-finite height is an error naming the options that set the scales."""
     if not np.all(np.isfinite(z)):
-        raise UsageError(f"the drawn heights are not all finite ({np.count_nonzero(~np.isfinite(z))}"
-                         f" of {z.size}): the scales of --spacing, the variances and the "
-                         f"correlation lengths are too far apart for float64; nothing was "
-                         f"written")
+        bad = int(np.count_nonzero(~np.isfinite(z)))
+        raise UsageError(f"the drawn heights are not all finite ({bad} of {z.size}): the "
+                         f"scales of --spacing, the variances and the correlation lengths are "
+                         f"too far apart for float64; nothing was written")
 
 
 def run(args) -> int:
