@@ -12,6 +12,7 @@ import numpy as np
 from roughgp.cli.output import (
     UsageError,
     add_force_option,
+    check_block,
     check_device,
     check_outputs,
     check_spacing,
@@ -115,6 +116,8 @@ def run(args) -> int:
     missing = np.isnan(z)
     if not missing.any():
         raise UsageError(f"{args.file} has no missing (NaN) point: nothing to fill")
+    if model is None:
+        check_block(args.file, args.block, z.shape)
     err(f"{args.file}: {z.shape[0]} x {z.shape[1]} points, spacing {dy:g} x {dx:g} um "
         f"({heights.spacing_source}), {missing.sum()} missing ({missing.mean():.1%})")
     start = time.perf_counter()

@@ -16,6 +16,7 @@ from roughgp.cli.options import add_operator_options, operator_settings
 from roughgp.cli.output import (
     UsageError,
     add_force_option,
+    check_block,
     check_outputs,
     check_spacing,
     err,
@@ -160,6 +161,13 @@ def run(args) -> int:
 def _fit_profile(args, heights, operators, data):
     from roughgp.beyond.measured.fit import fit_profile_model
     z, spacing, how = mean_profile(heights, args.profile_axis)
+    holes = int(np.count_nonzero(np.isnan(z)))
+    if holes:
+        fix = ("fill the surface first (roughgp fill FILE --out FILLED.x3p) or crop it"
+               if heights.kind == "surface" else "crop it to a complete stretch (roughgp fill "
+               "fills surfaces only)")
+        raise UsageError(f"{args.file}: {how}: {holes} of {z.size} points unmeasured (NaN); the "
+                         f"eq 21 fit needs a complete profile: {fix}")
     if z.size > MAX_PROFILE_POINTS:
         raise UsageError(f"{args.file}: the profile has {z.size} points; the exact eq 21 fit "
                          f"costs O(n^2) per step and takes at most {MAX_PROFILE_POINTS} points "
@@ -198,9 +206,7 @@ def _fit_ground(args, heights, operators, data):
         raise UsageError(f"{args.file} holds a profile; fit ground needs a surface z[iy, ix] "
                          f"(fit a profile with: roughgp fit profile)")
     z = heights.z
-    if min(z.shape) < args.block:
-        raise UsageError(f"--block {args.block} exceeds the surface's shorter side "
-                         f"({min(z.shape)} points): give --block 4 to {min(min(z.shape), 64)}")
+    check_block(args.file, args.block, z.shape)
     missing = np.isnan(z)
     err(f"{args.file}: {z.shape[0]} x {z.shape[1]} points, spacing "
         f"{heights.spacing[0]:g} x {heights.spacing[1]:g} um ({heights.spacing_source}), "
