@@ -48,7 +48,13 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.fft
 
-from roughgp.common.checks import as_generator, check_integer, check_nonnegative, check_positive
+from roughgp.common.checks import (
+    as_generator,
+    check_integer,
+    check_nonnegative,
+    check_positive,
+    check_size,
+)
 from roughgp.common.device import resolve as resolve_device
 from roughgp.common.grid import normalize
 from roughgp.sampling.circulant import NotEmbeddableError, wrapped_lags
@@ -229,6 +235,10 @@ def _missing_map(z, mask):
     return z, missing
 
 
+#: Arrays of the pathwise draws' size that fill_gaps holds at once (prior, noise, the CG's).
+_DRAW_COPIES = 8
+
+
 def _prior_draws(kernel, shape, spacing, n_samples, rng, device):
     """The pathwise prior draws: exact circulant embedding, or, when the kernel's exact torus
     is too large, the clipped embedding of a smaller one (its lost share of the variance is
@@ -283,6 +293,8 @@ def fill_gaps(z, kernel, *, noise_variance, spacing=1.0, mask=None, n_samples=16
     check_nonnegative("noise_variance", noise_variance)
     noise_variance = float(noise_variance)
     n_samples = check_integer("n_samples", n_samples, 0)
+    check_size(f"n_samples = {n_samples} pathwise draws of shape {z.shape}", n_samples * z.size,
+               copies=_DRAW_COPIES)
     check_positive("tol", tol)
     check_positive("sample_tol", sample_tol)
     max_iter = check_integer("max_iter", max_iter, 1)

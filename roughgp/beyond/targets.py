@@ -68,7 +68,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from roughgp.common.checks import check_nonnegative
+from roughgp.common.checks import check_nonnegative, check_scale
 from roughgp.common.grid import normalize
 from roughgp.metrology import texture, texture_heights
 from roughgp.models import surfaces
@@ -137,11 +137,8 @@ class RoughnessTargets:
 
     def __post_init__(self):
         values = {name: finite_number(name, getattr(self, name)) for name in TARGET_NAMES}
-        if values["Sq"] <= 0:
-            raise ValueError(f"Sq must be > 0 (allowed range: (0, inf)), got {values['Sq']!r}")
-        if values["Sal"] <= 0:
-            raise ValueError(f"Sal must be > 0 (allowed range: (0, inf)), got "
-                             f"{values['Sal']!r}")
+        for name in ("Sq", "Sal"):
+            check_scale(name, values[name])
         if not 0 < values["Str"] <= 1:
             raise ValueError(f"Str must be in (0, 1] (allowed range: 0 < Str <= 1; 1 is "
                              f"isotropic), got {values['Str']!r}")

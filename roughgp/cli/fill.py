@@ -13,6 +13,7 @@ from roughgp.cli.options import add_form_options
 from roughgp.cli.output import (
     UsageError,
     add_force_option,
+    check_block,
     check_device,
     check_outputs,
     check_spacing,
@@ -54,6 +55,9 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     f.add_argument("--model", metavar="MODEL.json",
                    help="use this eq 18 model file (roughgp fit ground) instead of a fit")
     add_form_options(f, "F-operator removed and added back")
+    f.add_argument("--nu", type=float, choices=(0.5, 1.5, 2.5), default=0.5,
+                   help="smoothness of the fitted kernel: 0.5 is eq 18 (default); 1.5, 2.5 "
+                        "a smoother Matern profile (ignored with --model)")
     f.add_argument("--method", choices=("local", "global"), default="local",
                    help="local (default): moving-window kriging; global: all points by CG")
     f.add_argument("--samples", type=int, default=16, metavar="N",
@@ -89,9 +93,9 @@ def run(args) -> int:
     if args.degree < 1:
         raise UsageError(f"--degree must be >= 1, got {args.degree}")
     model = load_model(args.model, "--model") if args.model else None
-    if model is not None and model.equation != "eq18":
+    if model is not None and model.kind != "surface":
         raise UsageError(f"--model {args.model} is a {model.kind} model ({model.equation}); "
-                         f"fill needs an eq 18 surface model (roughgp fit ground)")
+                         f"fill needs a surface model (roughgp fit ground)")
     check_device(args.device)
     check_spacing(args.spacing)
     heights = read_measurement(args.file, kind="surface", spacing=args.spacing,
@@ -108,6 +112,8 @@ def run(args) -> int:
     missing = np.isnan(z)
     if not missing.any():
         raise UsageError(f"{args.file} has no missing (NaN) point: nothing to fill")
+    if model is None:
+        check_block(args.file, args.block, z.shape)
     err(f"{args.file}: {z.shape[0]} x {z.shape[1]} points, spacing {dy:g} x {dx:g} um "
         f"({heights.spacing_source}), {missing.sum()} missing ({missing.mean():.1%})")
     start = time.perf_counter()
@@ -117,7 +123,7 @@ def run(args) -> int:
                                        seed=args.seed, block=args.block, n_blocks=args.blocks,
                                        form=None if args.form == "none" else args.form,
                                        degree=args.degree, axis=args.axis, model=model,
-                                       method=args.method, device=args.device)
+                                       method=args.method, nu=args.nu, device=args.device)
     except ValueError as exc:
         raise UsageError(f"{args.file}: {exc}") from None
     fit, fill = result.fit, result.gaps

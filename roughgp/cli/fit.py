@@ -16,6 +16,7 @@ from roughgp.cli.options import add_operator_options, operator_settings
 from roughgp.cli.output import (
     UsageError,
     add_force_option,
+    check_block,
     check_outputs,
     check_spacing,
     err,
@@ -104,6 +105,9 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                           help="eq 18 + noise on a measured surface with holes")
     add_input_options(g, kind=False, what="the surface, heights in um, NaN where missing")
     add_operator_options(g, s_default="none", l_default="auto")
+    g.add_argument("--nu", type=float, choices=(0.5, 1.5, 2.5), default=0.5,
+                   help="smoothness: 0.5 is eq 18 (default); 1.5 or 2.5 its anisotropy with a "
+                        "smoother Matern profile, for smooth surfaces (beyond the paper)")
     g.add_argument("--block", type=int, default=24, metavar="B",
                    help="side of the fit's blocks in points, 4 to 64 (default 24)")
     g.add_argument("--blocks", type=int, default=12, metavar="K",
@@ -157,6 +161,13 @@ def run(args) -> int:
 def _fit_profile(args, heights, operators, data):
     from roughgp.beyond.measured.fit import fit_profile_model
     z, spacing, how = mean_profile(heights, args.profile_axis)
+    holes = int(np.count_nonzero(np.isnan(z)))
+    if holes:
+        fix = ("fill the surface first (roughgp fill FILE --out FILLED.x3p) or crop it"
+               if heights.kind == "surface" else "crop it to a complete stretch (roughgp fill "
+               "fills surfaces only)")
+        raise UsageError(f"{args.file}: {how}: {holes} of {z.size} points unmeasured (NaN); the "
+                         f"eq 21 fit needs a complete profile: {fix}")
     if z.size > MAX_PROFILE_POINTS:
         raise UsageError(f"{args.file}: the profile has {z.size} points; the exact eq 21 fit "
                          f"costs O(n^2) per step and takes at most {MAX_PROFILE_POINTS} points "
@@ -195,22 +206,21 @@ def _fit_ground(args, heights, operators, data):
         raise UsageError(f"{args.file} holds a profile; fit ground needs a surface z[iy, ix] "
                          f"(fit a profile with: roughgp fit profile)")
     z = heights.z
-    if min(z.shape) < args.block:
-        raise UsageError(f"--block {args.block} exceeds the surface's shorter side "
-                         f"({min(z.shape)} points): give --block 4 to {min(min(z.shape), 64)}")
+    check_block(args.file, args.block, z.shape)
     missing = np.isnan(z)
     err(f"{args.file}: {z.shape[0]} x {z.shape[1]} points, spacing "
         f"{heights.spacing[0]:g} x {heights.spacing[1]:g} um ({heights.spacing_source}), "
         f"{missing.sum()} missing ({missing.mean():.1%}); fitting eq 18 plus noise ...")
     try:
         result = fit_surface_model(z, heights.spacing, **operators, block=args.block,
-                                   n_blocks=args.blocks, seed=args.seed,
+                                   n_blocks=args.blocks, seed=args.seed, nu=args.nu,
                                    non_gaussian=args.non_gaussian, data=data)
     except ValueError as exc:
         raise UsageError(f"{args.file}: {exc}") from None
     model, fit = result.model, result.block_fit
     hp = model.hyperparameters
-    print(f"eq 18 plus white noise (eq 8) fitted to {args.file}")
+    name = "eq 18" if args.nu == 0.5 else f"eq 18 with a Matern nu = {args.nu:g} profile"
+    print(f"{name} plus white noise (eq 8) fitted to {args.file}")
     print_wrapped(f"operators: {'; '.join(model.operators)}")
     for note in result.texture.cutoffs.reason.split("; ") if result.texture.cutoffs.reason \
             else ():

@@ -8,16 +8,18 @@ Gaussian processes" (Surf. Topogr.: Metrol. Prop.). Sub-commands, one module eac
 
 Units: heights and lengths (spacing, lengthscales, feed, periods) are in micrometres (um).
 Exit codes: 0 success, 1 a claim regressed (``reproduce``), 2 a usage or input error (a
-message, never a traceback). :func:`main` is the entry point (``main(argv) -> int``); it never
+message, never a traceback), 141 (quietly) when the reader of a pipe has gone
+(``roughgp texture F | head``). :func:`main` is the entry point (``main(argv) -> int``); it never
 raises ``SystemExit``.
 """
 
 from __future__ import annotations
 
+import os
 import sys
 import warnings
 
-from roughgp.cli.output import UsageError, err, show_warning
+from roughgp.cli.output import UsageError, err, shell_message, show_warning
 from roughgp.cli.parser import build_parser
 from roughgp.metrology.readers import MalformedFileError
 
@@ -38,17 +40,40 @@ def main(argv=None) -> int:
     try:
         with warnings.catch_warnings():
             warnings.showwarning = show_warning
-            return args.func(args)
+            code = args.func(args)
+            sys.stdout.flush()  # a closed pipe shows here, not in the interpreter's exit
+            return code
     except (UsageError, MalformedFileError, ValueError) as exc:
-        err(f"{name}: error: {exc}")
+        err(f"{name}: error: {shell_message(str(exc), args)}")
         return 2
+    except BrokenPipeError:  # ``roughgp texture F | head``: the reader has gone; end quietly
+        _silence_stdout()
+        return 141  # 128 + SIGPIPE, what a shell reports for a writer cut off by its pipe
     except OSError as exc:  # unreadable / unwritable files
         err(f"{name}: error: {exc.strerror or exc}"
              + (f": {exc.filename}" if getattr(exc, "filename", None) else ""))
         return 2
+    except OverflowError as exc:  # a safety net: the options' ranges should catch it first
+        err(f"{name}: error: a number overflowed ({exc}): an option or the data is out of "
+            f"range")
+        return 2
+    except MemoryError:  # a safety net: sizes are budgeted before the large arrays
+        err(f"{name}: error: out of memory: use a smaller input or size")
+        return 2
     except KeyboardInterrupt:
         err(f"{name}: interrupted")
         return 130
+
+
+def _silence_stdout() -> None:
+    """Point stdout at /dev/null, so that the interpreter's final flush into the closed pipe
+    prints nothing either."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError, AttributeError):  # pragma: no cover - stdout not a file
+        pass
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -8,8 +8,24 @@ import argparse
 import math
 
 from roughgp.cli.output import UsageError
+from roughgp.common.checks import check_scale
 
-__all__ = ["cutoff", "add_form_options", "add_operator_options", "operator_settings", "load_model"]
+__all__ = ["cutoff", "add_form_options", "add_operator_options", "operator_settings",
+           "load_model", "check_scales"]
+
+
+def check_scales(*options) -> None:
+    """Each ``(option, value, zero)`` whose value is given: a finite number in the library's
+    range of scales (:data:`roughgp.common.checks.SCALE_RANGE`; 0 too where ``zero``), or a
+    :class:`UsageError` that names the option."""
+    for option, value, zero in options:
+        if value is None:
+            continue
+        try:
+            check_scale(option, value, zero=zero)
+        except ValueError as exc:
+            unit = " (um^2)" if "variance" in option else " (um)"
+            raise UsageError(f"{exc}{unit}") from None
 
 
 def cutoff(text):

@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 import sys
 import textwrap
 from pathlib import Path
@@ -16,13 +17,58 @@ from roughgp.metrology.writers import check_write_format
 
 __all__ = ["UsageError", "WIDTH", "err", "show_warning", "wrap", "print_wrapped", "table",
            "write_json", "check_output", "check_outputs", "add_force_option", "check_spacing",
-           "check_device", "describe_groove"]
+           "check_device", "describe_groove", "shell_message", "rename_parameters",
+           "check_block"]
 
 WIDTH = 100  # the plain-text tables are laid out for a 100-column terminal
 
 
 class UsageError(Exception):
     """A user error: reported as ``roughgp CMD: error: MESSAGE``, exit code 2."""
+
+
+_NUMPY_REPR = re.compile(r"\bnp\.(?:float|int|uint|complex)\d*\(([^()]*)\)|\bnp\.(True|False)_")
+#: The library's advice of its own keyword arguments, and what a shell user can do instead.
+_LIBRARY_ADVICE = re.compile(r"\s*Use approximate=True to clip .*?method='cholesky'\.")
+
+
+def shell_message(message: str, args=None) -> str:
+    """A library error's message for a shell user: numpy scalar reprs (``np.float64(1.0)``)
+    as plain numbers, and advice of keyword arguments (``approximate=True``,
+    ``method='cholesky'``) replaced by the options of the command ``args`` ran."""
+    message = _NUMPY_REPR.sub(lambda m: m.group(1) if m.group(1) is not None else m.group(2),
+                              message)
+    if _LIBRARY_ADVICE.search(message):
+        if getattr(args, "method", None) is not None and getattr(args, "kind", None) in (
+                "ground", "honed"):
+            advice = (" Give a smaller --shape, shorter correlation lengths, or --method "
+                      "cholesky on a grid of a few thousand points.")
+        else:
+            advice = " Give a smaller --shape (or a model with shorter correlation lengths)."
+        message = _LIBRARY_ADVICE.sub(advice, message)
+    return message
+
+
+def rename_parameters(message: str, names: dict) -> str:
+    """``message`` with the library's parameter names (whole words, the keys of ``names``)
+    replaced by the command's options (the values)."""
+    if not names:
+        return message
+    words = "|".join(map(re.escape, sorted(names, key=len, reverse=True)))
+    return re.sub(rf"(?<![\w.-])({words})(?![\w(-])", lambda m: names[m.group(1)], message)
+
+
+def check_block(path, block: int, shape) -> None:
+    """The eq 18 block fit's ``--block`` against the map: at least 4 points along each axis,
+    and a block that fits in it; a :class:`UsageError` says what to give instead."""
+    side = min(shape)
+    if side < 4:
+        raise UsageError(f"{path} is {' x '.join(map(str, shape))} points: the eq 18 fit works "
+                         f"on blocks of at least 4 x 4 points, so the map needs at least 4 "
+                         f"points along each axis")
+    if block > side:
+        raise UsageError(f"--block {block} exceeds the shorter side of {path} ({side} points): "
+                         f"give --block 4 to {min(side, 64)}")
 
 
 def err(message: str) -> None:

@@ -23,7 +23,9 @@ from roughgp.cli.output import (
     check_outputs,
     describe_groove,
     err,
+    rename_parameters,
 )
+from roughgp.cli.options import check_scales
 from roughgp.metrology.writers import WRITE_FORMATS, write_heights
 
 __all__ = ['MAX_SIMULATE_POINTS', 'add_parser', 'run']
@@ -249,7 +251,8 @@ def _target_groove(args, shape):
         hyper = targets.hyperparameters_for(**values, noise_variance=args.noise_variance,
                                             spacing=args.spacing)
     except ValueError as exc:
-        raise UsageError(f"--target: {exc}") from None
+        message = rename_parameters(str(exc), {"noise_variance": "--noise-variance"})
+        raise UsageError(f"--target: {message}") from None
     err(f"target Sq {values['Sq']:g} um, Sal {values['Sal']:g} um, Str {values['Str']:g}, "
          f"Std {values['Std']:g} deg -> hyperparameters (closed form, roughgp.beyond.targets): "
          f"{describe_groove(hyper.groove)}, noise variance {hyper.noise_variance:g} um^2")
@@ -303,9 +306,8 @@ def _run_model(args) -> int:
     elif min(shape) < 2:
         raise UsageError(f"--from {args.model} is a surface model: give --shape NY NX with "
                          f"NY, NX >= 2")
+    check_scales(("--spacing", args.spacing, False))
     spacing = model.spacing if args.spacing is None else (args.spacing,) * len(model.spacing)
-    if not all(math.isfinite(d) and d > 0 for d in spacing):
-        raise UsageError(f"--spacing must be > 0 (um), got {args.spacing!r}")
     seed = args.seed
     if seed is None:
         seed = secrets.randbelow(2 ** 31)
@@ -313,6 +315,7 @@ def _run_model(args) -> int:
     err(f"drawing {' x '.join(map(str, shape))} points from {args.model}: {model.describe()}")
     start = time.perf_counter()
     z = model.simulate(shape, seed=seed, spacing=spacing)
+    _check_drawn(z)
     err(f"drawn in {time.perf_counter() - start:.2f} s; Sq = {np.std(z):.4g} um")
     if len(spacing) == 2 and spacing[0] != spacing[1] and out.suffix.lower() == ".csv":
         raise UsageError("the model's spacing differs along y and x: a .csv stores one "
@@ -321,6 +324,62 @@ def _run_model(args) -> int:
     write_heights(out, z, spacing[-1] if len(set(spacing)) == 1 else tuple(spacing), comment)
     err(f"wrote {out} ({model.kind} of shape {z.shape}, heights in um)")
     return 0
+
+
+def _check_option_scales(args) -> None:
+    """The lengths and variances given: finite, in the library's range of scales."""
+    options = [("--spacing", args.spacing, False)]
+    options += [(name, getattr(args, attr, None), zero) for name, attr, zero in (
+        ("--noise-variance", "noise_variance", True), ("--variance", "variance", False),
+        ("--lambda-a", "lambda_a", False), ("--lambda-b", "lambda_b", False),
+        ("--feed", "feed", False), ("--nose-radius", "nose_radius", False),
+        ("--noise-sd", "noise_sd", True))]
+    angle = getattr(args, "angle_deg", None)
+    if angle is not None and not math.isfinite(angle):
+        raise UsageError(f"--angle-deg must be a finite angle in degrees, got {angle}")
+    for v, a, b, phi in getattr(args, "step", None) or ():
+        options += [("--step VARIANCE", v, False), ("--step LAMBDA_A", a, False),
+                    ("--step LAMBDA_B", b, False)]
+        if not math.isfinite(phi):
+            raise UsageError(f"--step ANGLE_DEG must be a finite angle in degrees, got {phi}")
+    check_scales(*options)
+
+
+#: The turned model's parameters, as the options of ``simulate turned`` name them.
+_TURNED_OPTIONS = {"n": "--profile", "shape": "--shape", "feed": "--feed",
+                   "nose_radius": "--nose-radius", "noise_sd": "--noise-sd"}
+
+
+def _in_options(function, names):
+    """``function`` whose ValueErrors name the options (``names``), not the library's words."""
+    def call(*a, **k):
+        try:
+            return function(*a, **k)
+        except ValueError as exc:
+            raise UsageError(rename_parameters(str(exc), names)) from None
+    return call
+
+
+def _turned_parameters(args):
+    """RUBERT_LIKE with --feed, --nose-radius, --noise-sd on top; errors name the options."""
+    from roughgp.models import turned
+    preset = turned.RUBERT_LIKE
+    changes = {k: v for k, v in (("feed", args.feed), ("nose_radius", args.nose_radius),
+                                 ("noise_sd", args.noise_sd)) if v is not None}
+    if "feed" in changes and not changes["feed"] > 4 * preset.feed_jitter:
+        raise UsageError(f"--feed must be > 4 x the feed-mark jitter of the model "
+                         f"({preset.feed_jitter:g} um) = {4 * preset.feed_jitter:g} um, got "
+                         f"{changes['feed']:g}")
+    return _in_options(dataclasses.replace, _TURNED_OPTIONS)(preset, **changes)
+
+
+def _check_drawn(z) -> None:
+    """A non-finite height is an error naming the options that set the scales."""
+    if not np.all(np.isfinite(z)):
+        bad = int(np.count_nonzero(~np.isfinite(z)))
+        raise UsageError(f"the drawn heights are not all finite ({bad} of {z.size}): the "
+                         f"scales of --spacing, the variances and the correlation lengths are "
+                         f"too far apart for float64; nothing was written")
 
 
 def run(args) -> int:
@@ -336,8 +395,7 @@ def run(args) -> int:
                          f"{args.kind!r}")
     shape = _check_shape(args)
     out, = check_outputs(("--out", args.out, "heights"), force=args.force)
-    if not (math.isfinite(args.spacing) and args.spacing > 0):
-        raise UsageError(f"--spacing must be > 0 (um), got {args.spacing!r}")
+    _check_option_scales(args)
     seed = args.seed
     if seed is None:
         seed = secrets.randbelow(2 ** 31)
@@ -372,9 +430,7 @@ def run(args) -> int:
                                       spacing=args.spacing, seed=seed, method=method,
                                       device=device)
     else:
-        changes = {k: v for k, v in (("feed", args.feed), ("nose_radius", args.nose_radius),
-                                     ("noise_sd", args.noise_sd)) if v is not None}
-        params = dataclasses.replace(turned.RUBERT_LIKE, **changes)
+        params = _turned_parameters(args)
         label = (f"{what} turned {'surface ' if ny > 1 else ''}(feed {params.feed:g} um, nose "
                  f"radius {params.nose_radius:g} um, Rt about {params.rt:.3g} um)")
         if ny == 1:
@@ -383,12 +439,15 @@ def run(args) -> int:
         else:
             draw = lambda: turned.turned_surface(shape, args.spacing, params,  # noqa: E731
                                                seed=seed)
+        draw = _in_options(draw, {**_TURNED_OPTIONS, "n": "--profile" if args.profile
+                                  is not None else "NX of --shape 1 NX"})
 
     err(f"drawing {label} ...")
     start = time.perf_counter()
     z = np.asarray(draw(), dtype=np.float64)
     if z.ndim == 2 and z.shape[0] == 1:
         z = z[0]  # one row: a profile along x
+    _check_drawn(z)
     err(f"drawn in {time.perf_counter() - start:.2f} s; Sq = {np.std(z):.4g} um")
     if wanted is not None:
         _report_achieved(z, args.spacing, wanted)

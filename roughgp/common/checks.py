@@ -49,6 +49,22 @@ def check_shape(name: str, value, shape: tuple) -> None:
         raise ValueError(f"{name} must have shape {want}, got {got}")
 
 
+#: Most values an array that the library allocates for a result may hold: 2**28 (2 GiB of float64).
+MAX_ARRAY_VALUES = 2 ** 28
+
+
+def check_size(what: str, count: int, *, copies: int = 1, limit: int = MAX_ARRAY_VALUES) -> None:
+    """Raise a ``ValueError`` before allocating when ``count`` float64 values, held in
+    ``copies`` working copies, exceed ``limit`` values (:data:`MAX_ARRAY_VALUES`, 2 GiB);
+    ``what`` names the parameters that set ``count`` (``"n_samples = 10**9 draws of (8, 8)"``)."""
+    count = int(count)
+    if count * copies > limit:
+        held = f" in {copies} working copies" if copies > 1 else ""
+        raise ValueError(f"{what} would need about {count * copies * 8 / 2**30:.3g} GiB "
+                         f"({count:.3g} values{held}); at most {limit * 8 / 2**30:.3g} GiB "
+                         f"({limit} float64 values) are allowed: ask for fewer or smaller")
+
+
 def check_lags(name: str, lags, dim: int) -> None:
     """Raise unless ``lags`` is finite with a last axis of length ``dim``."""
     arr = _as_numpy(lags)
@@ -56,6 +72,26 @@ def check_lags(name: str, lags, dim: int) -> None:
         raise ValueError(f"{name} must have shape (..., {dim}) (last axis: the {dim} lag "
                          f"components), got {tuple(arr.shape)}")
     check_finite(name, arr)
+
+
+#: The magnitudes a scale (a height, variance, length or spacing) may take: beyond them the
+#: squares, fourth powers and ratios that the library forms overflow or underflow float64.
+SCALE_RANGE = (1e-60, 1e60)
+
+
+def check_scale(name: str, value, *, zero: bool = False) -> float:
+    """``value`` as a float; raise unless it is finite and in :data:`SCALE_RANGE` (or 0 when
+    ``zero``), naming ``name`` and the allowed range."""
+    low, high = SCALE_RANGE
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number, got {value!r}") from None
+    if not (number == 0 and zero) and not low <= number <= high:
+        sign = ">= 0: 0 or" if zero else "> 0 and"
+        raise ValueError(f"{name} must be {sign} within [{low:g}, {high:g}] (allowed range; "
+                         f"larger or smaller magnitudes overflow float64), got {number:g}")
+    return number
 
 
 def check_integer(name: str, value, minimum: int) -> int:

@@ -144,11 +144,12 @@ def hide_discs(valid, share, *, radius=(1, 3), seed=0) -> np.ndarray:
 
 
 def cross_validated_fill(name=LAND_FILE, *, share=0.02, seed=0, form="cylinder",
-                         crop=None) -> CrossValidation:
+                         crop=None, nu=0.5) -> CrossValidation:
     """Hide ``share`` of the measured points of ``data/name`` in small discs, fill them with
     the GP (eq 18 fitted without them, moving-window kriging) and with linear and cubic
     interpolation (Delaunay, Clough-Tocher), and score both against the hidden heights.
-    ``crop``: a pair of slices to work on a part of the file."""
+    ``crop``: a pair of slices to work on a part of the file; ``nu``: the smoothness of the
+    fitted kernel (0.5: eq 18; 1.5, 2.5: its Matérn variant)."""
     import time
 
     m = _read(name)
@@ -156,7 +157,7 @@ def cross_validated_fill(name=LAND_FILE, *, share=0.02, seed=0, form="cylinder",
     valid = np.isfinite(z)
     hidden = hide_discs(valid, share, seed=seed)
     start = time.perf_counter()
-    gp = fill_measured_surface(z, spacing=m.spacing, form=form, seed=seed, mask=hidden)
+    gp = fill_measured_surface(z, spacing=m.spacing, form=form, seed=seed, mask=hidden, nu=nu)
     seconds = {"GP": time.perf_counter() - start}
     whole = (slice(0, z.shape[0]), slice(0, z.shape[1]))
     baseline = interpolate_baseline(np.where(hidden, np.nan, z), ~valid | hidden, whole,

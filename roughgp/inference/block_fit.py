@@ -64,6 +64,7 @@ class BlockFit:
         log_likelihood: the block composite log-likelihood at the optimum.
         blocks: ``(row, col)`` of the top-left corner of each block used.
         n_points: measured points in the blocks used.
+        nu: the Matérn smoothness of the radial profile (0.5: eq 18 itself).
     """
 
     groove: GrooveParameters
@@ -72,11 +73,18 @@ class BlockFit:
     log_likelihood: float
     blocks: tuple
     n_points: int
+    nu: float = 0.5
 
     @property
     def kernel(self):
-        """The fitted eq 18 kernel, for :func:`roughgp.beyond.gap_filling.fill_gaps`."""
-        return self.groove.kernel()
+        """The fitted kernel, for :func:`roughgp.beyond.gap_filling.fill_gaps`: eq 18's
+        ``RotatedExponentialKernel`` (``nu = 0.5``) or the function of lags of
+        :func:`roughgp.gp.acvf.rotated_matern`."""
+        if self.nu == 0.5:
+            return self.groove.kernel()
+        g, nu = self.groove, self.nu
+        return lambda lags: _acvf.rotated_matern(lags, g.variance, np.asarray(g.lengthscales),
+                                                  g.angle, nu)
 
 
 def _choose_blocks(valid, block, n_blocks, min_valid, rng):
@@ -91,7 +99,7 @@ def _choose_blocks(valid, block, n_blocks, min_valid, rng):
     return tuple(corners[k] for k in sorted(picked))
 
 
-def _block_log_likelihood(z, valid, blocks, block, spacing):
+def _block_log_likelihood(z, valid, blocks, block, spacing, nu=0.5):
     """``loglik(params)``: the composite log-likelihood of the measured points of the blocks."""
     lags = centred_lags((2 * block - 1, 2 * block - 1), spacing)
     index = covariance_index((block, block))
@@ -102,9 +110,10 @@ def _block_log_likelihood(z, valid, blocks, block, spacing):
                       z[r:r + block, c:c + block].reshape(-1)[inside]))
 
     def loglik(p):
-        table = _acvf.rotated_exponential(lags, p["variance"],
-                                          np.array([p["lambda_a"], p["lambda_b"]]),
-                                          p["angle"]).reshape(-1)
+        scales = np.array([p["lambda_a"], p["lambda_b"]])
+        table = (_acvf.rotated_exponential(lags, p["variance"], scales, p["angle"])
+                 if nu == 0.5 else
+                 _acvf.rotated_matern(lags, p["variance"], scales, p["angle"], nu)).reshape(-1)
         total = 0.0
         for idx, y in terms:
             cov = table[idx]
@@ -121,7 +130,7 @@ def _block_log_likelihood(z, valid, blocks, block, spacing):
 
 
 def fit_ground_to_valid_points(z, *, spacing=1.0, mask=None, block=24, n_blocks=12,
-                               min_valid=0.5, seed=None, maxiter=500) -> BlockFit:
+                               min_valid=0.5, seed=None, maxiter=500, nu=0.5) -> BlockFit:
     """Fit eq 18 plus white noise (eq 8) to the measured points of ``z`` (module docstring).
 
     Args:
@@ -134,6 +143,8 @@ def fit_ground_to_valid_points(z, *, spacing=1.0, mask=None, block=24, n_blocks=
         min_valid: in (0, 1]: the smallest measured share of a usable block.
         seed: int, None or Generator: which blocks are used.
         maxiter: L-BFGS-B iterations (at most).
+        nu: 0.5 (eq 18, the default), 1.5 or 2.5: the Matérn smoothness of the radial profile
+            (:func:`roughgp.gp.acvf.rotated_matern`; beyond the paper, for smooth surfaces).
 
     Returns:
         :class:`BlockFit`.
@@ -158,6 +169,8 @@ def fit_ground_to_valid_points(z, *, spacing=1.0, mask=None, block=24, n_blocks=
     if not (isinstance(min_valid, (int, float)) and 0 < min_valid <= 1):
         raise ValueError(f"min_valid must be in (0, 1], got {min_valid!r}")
     maxiter = check_integer("maxiter", maxiter, 1)
+    if nu not in (0.5, 1.5, 2.5):
+        raise ValueError(f"nu must be 0.5 (eq 18), 1.5 or 2.5, got {nu!r}")
     _, spacing = normalize(z.shape, spacing)
     blocks = _choose_blocks(valid, block, n_blocks, min_valid, as_generator(seed))
     mean = float(np.mean(z[valid]))
@@ -172,7 +185,7 @@ def fit_ground_to_valid_points(z, *, spacing=1.0, mask=None, block=24, n_blocks=
               Parameter("lambda_a", scale), Parameter("lambda_b", scale),
               Parameter("angle", UniformAngle(math.pi)),
               Parameter("noise_variance", LogUniform(1e-8 * var, 10.0 * var)))
-    loglik = _block_log_likelihood(centred, valid, blocks, block, spacing)
+    loglik = _block_log_likelihood(centred, valid, blocks, block, spacing, nu)
     model = PosteriorModel(params, loglik)
     starts = [{"variance": 0.9 * var, "lambda_a": extent / 4, "lambda_b": extent / 4 / ratio,
                "angle": angle, "noise_variance": 0.1 * var}
@@ -187,4 +200,4 @@ def fit_ground_to_valid_points(z, *, spacing=1.0, mask=None, block=24, n_blocks=
     groove = GrooveParameters(found["variance"], (lam_a, lam_b), angle)
     n_points = int(sum(valid[r:r + block, c:c + block].sum() for r, c in blocks))
     return BlockFit(groove=groove, noise_variance=found["noise_variance"], mean=mean,
-                    log_likelihood=loglik(found), blocks=blocks, n_points=n_points)
+                    log_likelihood=loglik(found), blocks=blocks, n_points=n_points, nu=nu)

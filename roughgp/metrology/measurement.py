@@ -145,6 +145,11 @@ def _npy(path: Path, kind: str, spacing):
     if dtype.hasobject:
         raise MalformedFileError(f"{path}: holds Python objects (a pickle), not numbers: "
                                  "refused (roughgp never unpickles a file)")
+    if not (np.issubdtype(dtype, np.integer) or np.issubdtype(dtype, np.floating)):
+        raise MalformedFileError(f"{path}: holds {dtype} values, not real heights"
+                                 + (" (complex numbers: save the real part, z.real, or the "
+                                    "modulus, abs(z), as you mean it)"
+                                    if np.issubdtype(dtype, np.complexfloating) else ""))
     points = math.prod(shape)
     if points > readers.MAX_POINTS:
         raise MalformedFileError(f"{path}: declares an array of shape {shape} = {points:.3g} "

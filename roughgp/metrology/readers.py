@@ -21,7 +21,9 @@ residuals stay within the rounding of the printed digits.
 Every problem with a file raises :class:`MalformedFileError` (a ``ValueError``) whose message
 starts with the file name (and the line, for text files) and says what is wrong; a bad
 argument raises a plain ``ValueError`` that names the parameter. Sizes are checked before
-any large allocation: a grid of more than :data:`MAX_POINTS` points is refused.
+any large allocation: a grid of more than :data:`MAX_POINTS` points is refused, and a text
+file larger than :data:`MAX_TEXT_BYTES` is refused before it is parsed (values are stored
+as float64 while parsing, and parsing stops at :data:`MAX_POINTS` values).
 """
 
 from __future__ import annotations
@@ -29,17 +31,20 @@ from __future__ import annotations
 import math
 import os
 import re
+from array import array
 
 import numpy as np
 
 from roughgp.common.checks import check_positive
 from roughgp.common.grid import normalize
 
-__all__ = ["MAX_POINTS", "MalformedFileError", "read_profile",
+__all__ = ["MAX_POINTS", "MAX_TEXT_BYTES", "MalformedFileError", "read_profile",
            "read_surface", "read_xyz", "profile_step", "ROUNDING_TOLERANCE"]
 
 #: Largest number of grid points a reader allocates (2**28 = 268 million: 2 GiB of float64).
 MAX_POINTS = 2 ** 28
+#: Largest text table read (256 MiB), checked before parsing: save larger maps as .npy or .x3p.
+MAX_TEXT_BYTES = 2 ** 28
 
 _UM_PER_M = 1e6
 _COMMENT = ("#", "%", "//")
@@ -121,9 +126,10 @@ def _read_table(path, *, delimiter=None, skiprows="auto", units_of=None, header=
             return _AUTO_SPLIT.split(line.strip()) if line.strip() else []
         return [t.strip() for t in line.split(delimiter)]
 
-    flat: list[float] = []
-    lines: list[int] = []
-    units: list[float] = []
+    _check_text_size(path)
+    flat = array("d")  # 8 bytes a value, not a Python float object's 32
+    lines = array("q")
+    units = array("d")
     width = None
     with open(path, encoding="utf-8-sig", errors="replace", newline=None) as stream:
         for number, raw in enumerate(stream, start=1):
@@ -156,17 +162,34 @@ def _read_table(path, *, delimiter=None, skiprows="auto", units_of=None, header=
                                  f"{lines[0]}) has {width}", number)
             flat.extend(row)
             lines.append(number)
+            if len(flat) > MAX_POINTS:
+                raise _bad(path, f"more than MAX_POINTS = {MAX_POINTS} values: too large "
+                                 "for a text table (save it as .npy or .x3p)", number)
             if isinstance(units_of, (int, np.integer)) and not isinstance(units_of, bool) \
                     and -width <= units_of < width:
                 units.append(_last_digit_unit(tokens[units_of]))
     if not lines:
         raise _bad(path, "no rows of numbers found")
-    values = np.array(flat, dtype=np.float64).reshape(len(lines), width)
+    values = np.frombuffer(flat, dtype=np.float64).reshape(len(lines), width).copy()
+    del flat
+    lines = lines.tolist()
     if units_of is None:
         return values, lines
     digits = np.array(units, dtype=np.float64) if len(units) == len(lines) else \
         np.full(len(lines), np.nan)
     return values, lines, digits
+
+
+def _check_text_size(path):
+    """Refuse a text file larger than :data:`MAX_TEXT_BYTES` before reading a line of it."""
+    try:
+        size = os.stat(path).st_size
+    except (TypeError, ValueError):
+        return  # not a path (an open stream): the value count still stops at MAX_POINTS
+    if size > MAX_TEXT_BYTES:
+        raise _bad(path, f"the file is {size / 2**20:.0f} MiB, more than the "
+                         f"{MAX_TEXT_BYTES / 2**20:.0f} MiB allowed for a text table "
+                         "(MAX_TEXT_BYTES); save large maps as .npy or .x3p")
 
 
 def _check_column(path, name, column, width):

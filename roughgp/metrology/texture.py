@@ -54,7 +54,8 @@ def autocorrelation(z, spacing=1.0, level=False, unbiased=True):
     h = th.residual_heights(z, level)
     if th.is_flat(h, z):
         raise th.UndefinedParameterError(th.flat_message(["the autocorrelation function"]))
-    lags, acvf = empirical_acvf(h, spacing, unbiased=unbiased, demean=False)
+    lags, acvf = empirical_acvf(th.unit_heights(h)[0], spacing, unbiased=unbiased,
+                                demean=False)  # scaled: the normalised ACF does not change
     return lags, acvf / acvf[tuple(n - 1 for n in h.shape)]
 
 
@@ -187,7 +188,9 @@ def texture_direction(z, spacing=1.0, n_angles=180, level=False, undefined="rais
     i.e. against the row index: its Std reads ``(90 - Std) mod 180`` (60 for a lay at 30).
     """
     th.undefined_policy(undefined)
-    angles, power = angular_spectrum(z, spacing, n_angles, level)
+    z = th.as_heights(z, (2,), "texture_direction")
+    unit = th.unit_heights(z)[0]  # the direction does not depend on the heights' scale
+    angles, power = angular_spectrum(unit, spacing, n_angles, level)
     if not power.sum() > 0 or th.is_flat(th.residual_heights(z, level), z):
         return th.undefined_value(undefined, th.flat_message(["Std"]))
     width = 180.0 / n_angles

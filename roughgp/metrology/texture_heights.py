@@ -81,7 +81,11 @@ def undefined_value(undefined, message):
 
 def is_flat(h, z):
     """Whether the residual heights ``h`` of ``z`` have zero variance (to rounding)."""
-    return math.sqrt(np.mean(h * h)) <= _FLAT * float(np.max(np.abs(z)))
+    top = float(np.max(np.abs(z)))
+    if top == 0:
+        return True
+    u = h / top  # scaled: the squares of heights of 1e200 would overflow
+    return math.sqrt(np.mean(u * u)) <= _FLAT
 
 
 def flat_message(names):
@@ -104,14 +108,24 @@ def residual_heights(z, level=False):
 
 # --------------------------------------------------------------------------- height parameters
 
+def unit_heights(h):
+    """``(h / scale, scale)`` with ``scale = max |h|`` (1 for all zeros): powers of the scaled
+    heights stay finite for any finite ``h`` (heights of 1e200 would overflow their squares)."""
+    scale = float(np.max(np.abs(h))) if h.size else 0.0
+    scale = scale if scale > 0 else 1.0
+    return h / scale, scale
+
+
 def amplitude_parameters(h, p):
     """``{p}a, {p}q, {p}p, {p}v`` and ``Sz`` (``p = "S"``) or ``Rt`` of residual heights ``h``."""
     peak, valley = float(h.max()), float(-h.min())
-    return {f"{p}a": float(np.mean(np.abs(h))), f"{p}q": math.sqrt(np.mean(h * h)),
+    u, scale = unit_heights(h)
+    return {f"{p}a": float(np.mean(np.abs(h))), f"{p}q": scale * math.sqrt(np.mean(u * u)),
             f"{p}p": peak, f"{p}v": valley, f"{p}{'z' if p == 'S' else 't'}": peak + valley}
 
 
 def _moments(h, p):
+    h = unit_heights(h)[0]  # the ratios do not depend on the scale
     q2 = np.mean(h * h)
     return {f"{p}sk": float(np.mean(h**3) / q2**1.5), f"{p}ku": float(np.mean(h**4) / q2**2)}
 

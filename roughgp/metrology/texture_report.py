@@ -7,18 +7,27 @@ ISO 4288 describe: ISO 25178-2 areal parameters (:func:`roughgp.metrology.textur
 or ISO 4287 / 13565-2 profile parameters. Unmeasured (NaN) points are left out of the point
 statistics (height and material-ratio parameters); the parameters that need a complete grid
 (Sal, Str, Std; RSm) are then NaN, with a note saying why.
+
+Memory: the chain and the parameters need about :data:`BYTES_PER_POINT` bytes a point at their
+peak (the FFTs of the filters and of the autocorrelation), so a map of more than
+:data:`MAX_TEXTURE_POINTS` points, or one whose budget exceeds the free memory, is refused
+with a ``ValueError`` before any of it is computed.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
+import torch
 
+from roughgp.common.device import free_bytes
 from roughgp.metrology import texture, texture_heights
 from roughgp.metrology.filters import Texture, surface_texture
 
-__all__ = ["TextureReport", "filtered_parameters", "point_statistics", "UNITS", "unit_of"]
+__all__ = ["MAX_TEXTURE_POINTS", "BYTES_PER_POINT", "check_texture_size", "TextureReport",
+           "filtered_parameters", "point_statistics", "UNITS", "unit_of"]
 
 #: Units of the parameters that are not heights or lengths in µm.
 UNITS = {"Ssk": "", "Sku": "", "Rsk": "", "Rku": "", "Str": "", "Std": "deg",
@@ -27,6 +36,29 @@ UNITS = {"Ssk": "", "Sku": "", "Rsk": "", "Rku": "", "Str": "", "Std": "deg",
 _AREAL_FROM_PROFILE = {"Ra": "Sa", "Rq": "Sq", "Rp": "Sp", "Rv": "Sv", "Rt": "Sz",
                        "Rsk": "Ssk", "Rku": "Sku", "Rk": "Sk", "Rpk": "Spk", "Rvk": "Svk",
                        "Mr1": "Smr1", "Mr2": "Smr2"}
+
+
+#: Largest map whose parameters are computed: 2**24 points (4096 x 4096, about 6 GiB at the peak).
+MAX_TEXTURE_POINTS = 2 ** 24
+#: Peak memory of :func:`filtered_parameters` per point of the map (measured: 310-400 bytes).
+BYTES_PER_POINT = 400
+
+
+def check_texture_size(shape) -> None:
+    """Raise a ``ValueError`` naming the size and the limit when the parameters of a map of
+    ``shape`` would need more than :data:`MAX_TEXTURE_POINTS` points or 80 % of the free memory."""
+    points = math.prod(shape)
+    needed = BYTES_PER_POINT * points
+    size = " x ".join(map(str, shape))
+    if points > MAX_TEXTURE_POINTS:
+        raise ValueError(f"a map of {size} = {points} points is too large for the texture "
+                         f"parameters (at most MAX_TEXTURE_POINTS = {MAX_TEXTURE_POINTS} points; "
+                         f"they would need about {needed / 2**30:.1f} GiB): crop or subsample it")
+    free = free_bytes(torch.device("cpu"))
+    if needed > 0.8 * free:
+        raise ValueError(f"the texture parameters of a map of {size} points need about "
+                         f"{needed / 2**30:.1f} GiB, but only {free / 2**30:.1f} GiB of memory "
+                         f"are free: crop or subsample it")
 
 
 def unit_of(name: str) -> str:
@@ -80,6 +112,7 @@ def filtered_parameters(z, spacing=1.0, *, form="plane", s="auto", l="auto", deg
             (the parameters of the primary surface "as measured").
     """
     z = np.asarray(z, dtype=np.float64)
+    check_texture_size(z.shape)
     areal = z.ndim == 2
     notes = []
     if filtered:

@@ -17,8 +17,10 @@ Layout: a surface is ``z[iy, ix]`` (the data file runs x fastest), spacing ``(dy
 from __future__ import annotations
 
 import dataclasses
+import datetime
 import hashlib
 import math
+import os
 import posixpath
 import types
 import zipfile
@@ -29,7 +31,8 @@ import numpy as np
 from roughgp.common.grid import normalize
 from roughgp.metrology.readers import MAX_POINTS, MalformedFileError
 
-__all__ = ["MAX_XML_BYTES", "LATERAL_RANGE", "Z_RANGE", "WRITE_REVISION", "HeightMap", "read_x3p", "write_x3p"]
+__all__ = ["MAX_XML_BYTES", "LATERAL_RANGE", "Z_RANGE", "WRITE_REVISION", "HeightMap", "read_x3p",
+           "write_x3p", "creation_date"]
 
 #: Largest uncompressed ``main.xml`` of an x3p file that is parsed (256 MiB).
 MAX_XML_BYTES = 2 ** 28
@@ -231,7 +234,25 @@ def read_x3p(path, *, layer=0) -> HeightMap:
 WRITE_REVISION = "ISO5436 - 2000"
 
 
-def write_x3p(path, z, spacing, *, comment=None, creator=None, offset=None) -> None:
+def creation_date(date=None):
+    """The creation date written into ``Record2``: ``date`` (a timezone-aware ``datetime``)
+    when given, else the environment variable ``SOURCE_DATE_EPOCH`` (whole seconds since
+    1970-01-01 UTC, the reproducible-builds convention) when set, else the current UTC time.
+    The same heights with the same date give a byte-identical file."""
+    if date is not None:
+        if not isinstance(date, datetime.datetime) or date.tzinfo is None:
+            raise ValueError(f"date must be a timezone-aware datetime.datetime, got {date!r}")
+        return date
+    epoch = os.environ.get("SOURCE_DATE_EPOCH", "").strip()
+    if not epoch:
+        return datetime.datetime.now(datetime.timezone.utc)
+    if not epoch.isdigit() or int(epoch) > 253402300799:  # up to 9999-12-31T23:59:59Z
+        raise ValueError(f"SOURCE_DATE_EPOCH must be whole seconds since 1970-01-01 UTC "
+                         f"(0 to 253402300799), got {epoch!r}")
+    return datetime.datetime.fromtimestamp(int(epoch), datetime.timezone.utc)
+
+
+def write_x3p(path, z, spacing, *, comment=None, creator=None, offset=None, date=None) -> None:
     """Write a profile ``z[ix]`` or a surface ``z[iy, ix]`` to an ISO 25178-72 ``.x3p`` file.
 
     The layout is that of :func:`read_x3p`: heights and ``spacing`` (scalar or array order,
@@ -242,7 +263,8 @@ def write_x3p(path, z, spacing, *, comment=None, creator=None, offset=None) -> N
     infinite heights are refused. ``Record2`` names roughgp as the software (x3p's record of
     data not measured), with ``creator`` and ``comment`` if given; ``offset`` (x, y, z in
     micrometres, as ``read_x3p``'s ``meta["offset"]``) places the first point, as the axes'
-    offsets of the input file did.
+    offsets of the input file did. ``date``: the creation date (:func:`creation_date`:
+    ``SOURCE_DATE_EPOCH`` or now by default).
 
     Raises:
         ValueError: ``z`` not 1-D / 2-D or holding infinite values, a bad ``spacing`` or a
@@ -257,7 +279,7 @@ def write_x3p(path, z, spacing, *, comment=None, creator=None, offset=None) -> N
         raise ValueError("z must not hold infinite values (NaN marks a missing point)")
     _, spacing = normalize(arr.shape, spacing)
     from roughgp import __version__
-    metadata = x3pio.Metadata.for_software("roughgp", __version__)
+    metadata = x3pio.Metadata.for_software("roughgp", __version__, date=creation_date(date))
     metadata.comment = None if comment is None else str(comment)
     metadata.creator = None if creator is None else str(creator)
     options = {"metadata": metadata, "revision": x3pio.Revision(WRITE_REVISION)}

@@ -34,6 +34,7 @@ from scipy.signal import lfilter
 
 from roughgp.common.checks import as_generator as _rng
 from roughgp.common.checks import check_integer as _int
+from roughgp.common.checks import check_size
 from roughgp.gp.toeplitz import toeplitz_log_likelihood
 
 __all__ = [
@@ -235,6 +236,8 @@ def simulate_arma(ar, ma, sigma2, n, *, n_samples=1, burn_in=None, seed=None):
     sigma2, n = _positive("sigma2", sigma2), _int("n", n, 1)
     n_samples = _int("n_samples", n_samples, 1)
     burn_in = _burn_in(ar, ma) if burn_in is None else _int("burn_in", burn_in, 0)
+    check_size(f"n_samples = {n_samples} profiles of n = {n} points and burn_in = {burn_in}",
+               n_samples * (burn_in + n), copies=2)
     noise = math.sqrt(sigma2) * _rng(seed).standard_normal((n_samples, burn_in + n))
     return lfilter(np.r_[1.0, ma], np.r_[1.0, -ar], noise, axis=1)[:, burn_in:]
 

@@ -108,7 +108,7 @@ def kinematic_rt(feed, nose_radius):
     check_positive("nose_radius", nose_radius)
     if not nose_radius > feed / 2:
         raise ValueError(f"nose_radius must be > feed / 2 = {feed / 2:g} (a circular nose "
-                         f"cannot cut a wider feed mark), got {nose_radius!r}")
+                         f"cannot cut a mark wider than its diameter), got {nose_radius!r}")
     return nose_radius - math.sqrt(nose_radius ** 2 - feed ** 2 / 4)
 
 

@@ -30,6 +30,7 @@ import numpy as np
 import scipy.linalg
 
 from roughgp.common.checks import as_generator as _rng
+from roughgp.common.checks import check_size
 from roughgp.common.device import free_bytes
 from roughgp.common.device import resolve as resolve_device
 from roughgp.common.grid import centred_lags, normalize
@@ -65,12 +66,22 @@ _BYTES = 8  # float64
 
 def acvf_of(kernel, name="kernel") -> Callable:
     """The ACVF of a roughgp kernel (its ``acvf``), or ``kernel`` itself if it is a function
-    of lags; ``name``: the argument's name in the error."""
+    of lags, checked on each call to return one value per lag (a ``ValueError`` naming
+    ``name`` otherwise); ``name``: the argument's name in the error."""
     acvf = getattr(kernel, "acvf", None)
     if callable(acvf):
         return acvf
     if callable(kernel):
-        return kernel
+        def checked(lags):
+            values = kernel(lags)
+            full = tuple(getattr(lags, "shape", np.shape(lags)))
+            got = tuple(getattr(values, "shape", np.shape(values)))
+            if got != full[:-1]:
+                raise ValueError(f"{name} must return one covariance per lag: for lags of "
+                                 f"shape {full} (..., D) it must return shape {full[:-1]}, "
+                                 f"got {got}")
+            return values
+        return checked
     raise ValueError(f"{name} must be a roughgp StationaryKernel or a function of lags, "
                      f"got {type(kernel).__name__}")
 
@@ -341,6 +352,8 @@ def sample_grid(kernel, shape, *, spacing=1.0, n_samples=1, method="auto", seed=
     shape, spacing = normalize(shape, spacing)
     if not isinstance(n_samples, (int, np.integer)) or n_samples < 1:
         raise ValueError(f"n_samples must be an integer >= 1, got {n_samples!r}")
+    check_size(f"shape = {tuple(shape)} with n_samples = {int(n_samples)}",
+               int(n_samples) * math.prod(shape))
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
     try:

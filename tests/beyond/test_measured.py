@@ -180,3 +180,22 @@ def test_fill_measured_surface_adds_the_cylinder_back():
     assert np.sqrt(np.mean((result.filled - curved)[missing] ** 2)) < np.std(z)
     with pytest.raises(ValueError, match="method must be"):
         fill_measured_surface(holed, method="cubic")
+
+
+def test_matern_variant_fits_a_smooth_surface_better_than_eq18():
+    from roughgp.gp.acvf import rotated_exponential, rotated_matern
+    from roughgp.inference.block_fit import fit_ground_to_valid_points
+    from roughgp.sampling import sample_grid
+    lags = np.array([[0.0, 0.0], [1.0, 2.0], [-3.0, 0.5]])
+    np.testing.assert_allclose(rotated_matern(lags, 2.0, np.array([4.0, 1.0]), 0.3, 0.5),
+                               rotated_exponential(lags, 2.0, np.array([4.0, 1.0]), 0.3))
+    smooth = sample_grid(lambda t: rotated_matern(t, 1.0, np.array([10.0, 4.0]), 0.5, 2.5),
+                         (72, 72), seed=2)[0]
+    fits = {nu: fit_ground_to_valid_points(smooth, block=16, n_blocks=6, seed=0, nu=nu)
+            for nu in (0.5, 2.5)}
+    assert fits[2.5].log_likelihood > fits[0.5].log_likelihood + 50
+    model = fit_surface_model(smooth, 1.0, block=16, n_blocks=6, seed=0, nu=2.5).model
+    assert model.equation == "eq18-matern" and model.hyperparameters["nu"] == 2.5
+    assert model.simulate((32, 32), seed=1).shape == (32, 32)
+    with pytest.raises(ValueError, match="nu must be"):
+        fit_ground_to_valid_points(smooth, nu=1.0)

@@ -234,7 +234,7 @@ def test_simulate_ground_with_target(capsys, tmp_path):
     (["Sq=1.2", "Sal=40", "Str", "Std=30"], [], "KEY=VALUE"),
     (["Sq=1.2", "Sal=forty", "Str=0.2", "Std=30"], [], "Sal must be a number"),
     (["Sq=1.2", "Sq=1.3", "Sal=40", "Str=0.2", "Std=30"], [], "Sq is given twice"),
-    (["Sq=1.0", "Sal=40", "Str=0.2", "Std=30"], [], "Sq must be > sqrt(5 noise_variance / 4)"),
+    (["Sq=1.0", "Sal=40", "Str=0.2", "Std=30"], [], "Sq must be > sqrt(5 --noise-variance / 4)"),
     (["Sq=1.2", "Sal=40", "Str=0", "Std=30"], [], "Str must be in (0, 1]"),
     (["Sq=1.2", "Sal=-4", "Str=0.2", "Std=30"], [], "Sal must be > 0"),
     (["Sq=2", "Sal=40", "Str=0.2", "Std=30"], ["--lambda-a", "50"], "drop --lambda-a"),

@@ -67,7 +67,7 @@ class MeasuredFill:
 
 def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, n_blocks=12,
                           form="plane", degree=2, axis="auto", model=None,
-                          mask=None, method="local", tile=24, margin=6,
+                          mask=None, method="local", tile=24, margin=6, nu=0.5,
                           device=None) -> MeasuredFill:
     """Remove the form, fit eq 18 on the measured points (or use ``model``), fill the NaN
     (and ``mask``-ed) points, add the form back.
@@ -81,8 +81,9 @@ def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, 
         block, n_blocks: the fit's blocks
             (:func:`~roughgp.inference.block_fit.fit_ground_to_valid_points`).
         form, degree, axis: the F-operator (:func:`~roughgp.metrology.form.remove_form`).
-        model: a :class:`~roughgp.beyond.measured.model.FittedModel` of eq 18 whose kernel and
-            noise are used instead of a fit.
+        model: a :class:`~roughgp.beyond.measured.model.FittedModel` of a surface (eq 18 or
+            its Matérn variant) whose kernel and noise are used instead of a fit.
+        nu: the smoothness of the fit when no model is given (0.5: eq 18; 1.5, 2.5: Matérn).
         mask: optional boolean map: measured points to treat as missing as well (e.g. to hide
             them for a cross-validation).
         method: ``"local"`` (moving-window kriging, ``tile`` and ``margin`` in points) or
@@ -103,15 +104,15 @@ def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, 
         raise ValueError("z has no missing (NaN) point: nothing to fill")
     if method not in ("local", "global"):
         raise ValueError(f"method must be 'local' or 'global', got {method!r}")
-    if model is not None and (not isinstance(model, FittedModel) or model.equation != "eq18"):
-        raise ValueError("model must be a FittedModel of eq 18 (a surface model)")
+    if model is not None and (not isinstance(model, FittedModel) or model.kind != "surface"):
+        raise ValueError("model must be a FittedModel of a surface (eq 18)")
     _, (dy, dx) = normalize(z.shape, spacing)
     residual, form_fit = remove_form(np.where(missing, np.nan, z), (dy, dx), form,
                                      degree=degree, axis=axis)
     fit = None
     if model is None:
         fit = fit_ground_to_valid_points(residual, spacing=(dy, dx), block=block,
-                                         n_blocks=n_blocks, seed=seed)
+                                         n_blocks=n_blocks, seed=seed, nu=nu)
         kernel, noise_variance = fit.kernel, fit.noise_variance
     else:
         kernel, noise_variance = model.kernel(), model.noise_variance

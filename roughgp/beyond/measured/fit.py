@@ -82,7 +82,7 @@ def _cutoffs(form, s, l, degree, axis):
 
 
 def fit_surface_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, axis="auto",
-                      block=24, n_blocks=12, seed=0, non_gaussian=False,
+                      block=24, n_blocks=12, seed=0, non_gaussian=False, nu=0.5,
                       data=None) -> SurfaceModelFit:
     """Fit eq 18 plus noise to a measured surface ``z[iy, ix]`` (um, NaN where unmeasured).
 
@@ -94,6 +94,8 @@ def fit_surface_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2,
         block, n_blocks, seed: the block composite likelihood's blocks
             (:func:`~roughgp.inference.block_fit.fit_ground_to_valid_points`).
         non_gaussian: keep the fitted heights' skewness and kurtosis in the model.
+        nu: 0.5 (eq 18, the default), or 1.5 / 2.5 for eq 18's anisotropy with a smoother
+            Matérn profile (model ``"eq18-matern"``).
         data: a dict describing the source (file name, checksum, ...), kept in the model.
     """
     arr = np.asarray(z, dtype=np.float64)
@@ -104,18 +106,20 @@ def fit_surface_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2,
     texture = surface_texture(arr, (dy, dx), form=form, s=s, l=l, degree=degree, axis=axis)
     heights = texture.sl
     fit = fit_ground_to_valid_points(heights, spacing=(dy, dx), block=block, n_blocks=n_blocks,
-                                     seed=seed)
+                                     seed=seed, nu=nu)
     g = fit.groove
     hyper = {"variance_um2": g.variance, "lambda_a_um": g.lengthscales[0],
              "lambda_b_um": g.lengthscales[1], "angle_deg": math.degrees(g.angle),
              "noise_variance_um2": fit.noise_variance, "mean_um": fit.mean}
+    if nu != 0.5:
+        hyper["nu"] = float(nu)
     missing = ~np.isfinite(heights)
     described = {**(data or {}), "shape": list(arr.shape), "spacing_um": [dy, dx],
                  "missing_fraction": float(missing.mean()), "points_used": fit.n_points}
     how = {"method": "maximum block composite likelihood (roughgp.inference.block_fit)",
            "log_likelihood": fit.log_likelihood, "block": block, "n_blocks": len(fit.blocks),
            "seed": seed, "seconds": round(time.perf_counter() - start, 2)}
-    model = FittedModel("eq18", hyper, (dy, dx), _marginal(heights, non_gaussian),
+    model = FittedModel("eq18" if nu == 0.5 else "eq18-matern", hyper, (dy, dx), _marginal(heights, non_gaussian),
                         tuple(texture.operators), _cutoffs(form, texture.cutoffs.s,
                                                            texture.cutoffs.l, degree, axis),
                         described, how)

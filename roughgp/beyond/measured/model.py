@@ -12,6 +12,9 @@ Equations:
 
 * ``"eq18"``: a surface, the rotated anisotropic exponential ACVF of eq 18
   (:math:`\sigma_k^2, \lambda_a, \lambda_b, \phi`) plus Gaussian noise :math:`\sigma^2` (eq 8);
+* ``"eq18-matern"``: eq 18's rotated anisotropy with a Matérn radial profile of smoothness
+  ``nu`` (1.5 or 2.5: smoother surfaces than eq 18's exponential,
+  :func:`roughgp.gp.acvf.rotated_matern`), plus Gaussian noise;
 * ``"eq21"``: a profile, the spectral mixture of eq 21 (weights, frequencies, spectral
   variances) plus Gaussian noise.
 
@@ -44,6 +47,8 @@ MODEL_VERSION = 1
 EQUATIONS = {
     "eq18": ("surface", ("variance_um2", "lambda_a_um", "lambda_b_um", "angle_deg",
                          "noise_variance_um2")),
+    "eq18-matern": ("surface", ("variance_um2", "lambda_a_um", "lambda_b_um", "angle_deg",
+                                "noise_variance_um2", "nu")),
     "eq21": ("profile", ("weights_um2", "frequencies_per_um", "spectral_variances_per_um2",
                          "noise_variance_um2")),
 }
@@ -69,7 +74,7 @@ class FittedModel:
     """A fitted eq 18 surface model or eq 21 profile model (module docstring).
 
     Attributes:
-        equation: ``"eq18"`` or ``"eq21"``.
+        equation: ``"eq18"``, ``"eq18-matern"`` or ``"eq21"``.
         hyperparameters: the names of :data:`EQUATIONS` (units in the names: um, um^2, deg,
             1/um); eq 21's are lists of Q values.
         spacing: the grid spacing of the data, ``(dy, dx)`` (surface) or ``(dx,)`` (profile), um.
@@ -111,6 +116,8 @@ class FittedModel:
             for name in ("variance_um2", "lambda_a_um", "lambda_b_um"):
                 _finite(name, hp[name], positive=True)
             _finite("angle_deg", hp["angle_deg"])
+            if self.equation == "eq18-matern" and hp["nu"] not in (1.5, 2.5):
+                raise ModelFileError(f"nu must be 1.5 or 2.5 (0.5 is eq 18), got {hp['nu']!r}")
         else:
             lengths = {len(np.atleast_1d(hp[n])) for n in names[:3]}
             if len(lengths) != 1:
@@ -139,6 +146,12 @@ class FittedModel:
     def kernel(self):
         """The fitted latent kernel (:mod:`roughgp.gp.kernels`), lengths in um."""
         hp = self.hyperparameters
+        if self.equation == "eq18-matern":
+            from roughgp.gp.acvf import rotated_matern
+            scales = np.array([hp["lambda_a_um"], hp["lambda_b_um"]], dtype=np.float64)
+            variance, angle, nu = float(hp["variance_um2"]), math.radians(hp["angle_deg"]), \
+                float(hp["nu"])
+            return lambda lags: rotated_matern(lags, variance, scales, angle, nu)
         if self.equation == "eq18":
             from roughgp.gp.kernels import RotatedExponentialKernel
             return RotatedExponentialKernel(hp["variance_um2"],
@@ -155,15 +168,16 @@ class FittedModel:
 
     def latent_variance(self) -> float:
         hp = self.hyperparameters
-        if self.equation == "eq18":
+        if self.kind == "surface":
             return float(hp["variance_um2"])
         return float(np.sum(hp["weights_um2"]))
 
     def describe(self) -> str:
         """One line: the equation and its hyperparameters."""
         hp = self.hyperparameters
-        if self.equation == "eq18":
-            text = (f"eq 18: variance {hp['variance_um2']:.4g} um^2, lambda_a "
+        if self.kind == "surface":
+            name = "eq 18" if self.equation == "eq18" else f"eq 18 with Matern nu = {hp['nu']:g}"
+            text = (f"{name}: variance {hp['variance_um2']:.4g} um^2, lambda_a "
                     f"{hp['lambda_a_um']:.4g} um, lambda_b {hp['lambda_b_um']:.4g} um, angle "
                     f"{hp['angle_deg']:.1f} deg")
         else:

@@ -13,7 +13,7 @@ from typing import Mapping
 
 import numpy as np
 
-from roughgp.common.checks import as_generator, check_integer, check_positive
+from roughgp.common.checks import as_generator, check_integer, check_positive, check_size
 from roughgp.inference.posterior.priors import PosteriorModel, UniformAngle
 
 # ------------------------------------------------------------------ sampling
@@ -139,6 +139,8 @@ def sample_posterior(model: PosteriorModel, *, n_walkers=32, n_steps=2000, seed=
     for name, value, low in (("n_walkers", n_walkers, max(2 * ndim, 2)),
                              ("n_steps", n_steps, 2), ("thin", thin, 1)):
         check_integer(name, value, low)
+    check_size(f"n_steps = {n_steps} steps of n_walkers = {n_walkers} walkers",
+               n_steps * n_walkers * (ndim + 1), copies=2)  # emcee's chain and log_prob
     burn_in = n_steps // 4 if burn_in is None else burn_in
     if not (isinstance(burn_in, (int, np.integer)) and 0 <= burn_in < n_steps - 1):
         raise ValueError(f"burn_in must be an integer in [0, n_steps - 1) = [0, {n_steps - 1}),"
