@@ -6,7 +6,6 @@ import subprocess
 import sys
 from pathlib import Path
 
-
 ROOT = Path(__file__).resolve().parents[1] / "roughgp"
 
 #: The groups bottom up: a module may import its own group and the groups before it.

@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from roughgp.cli.options import check_scales
 from roughgp.cli.output import (
     UsageError,
     add_force_option,
@@ -25,7 +26,6 @@ from roughgp.cli.output import (
     err,
     rename_parameters,
 )
-from roughgp.cli.options import check_scales
 from roughgp.metrology.writers import WRITE_FORMATS, write_heights
 
 __all__ = ['MAX_SIMULATE_POINTS', 'add_parser', 'run']

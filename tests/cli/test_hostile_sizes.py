@@ -113,8 +113,13 @@ def test_fill_gaps_refuses_too_many_draws():
 
 
 def test_sample_posterior_refuses_a_chain_beyond_memory():
-    from roughgp.inference.posterior import (LogUniform, Parameter, PosteriorModel,
-                                             profile_likelihood, sample_posterior)
+    from roughgp.inference.posterior import (
+        LogUniform,
+        Parameter,
+        PosteriorModel,
+        profile_likelihood,
+        sample_posterior,
+    )
     z = np.random.default_rng(1).normal(size=20)
     model = PosteriorModel((Parameter("variance", LogUniform(1e-4, 1e4)),),
                            profile_likelihood(z, 1.0, lambda p, lags: p["variance"] * (lags == 0)))

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from roughgp import ledger
-from roughgp.ledger import CLAIMS, VERDICTS, Check, Claim, Outcome, runner
+from roughgp.ledger import CLAIMS, VERDICTS, Check, Claim, runner
 
 BOOK = Path(__file__).resolve().parents[2] / "book"
 QUICK = ["eq5-duality", "fig1-acvf", "sec2.3-ma-finite", "sec2.3-arma-linear",

@@ -8,11 +8,17 @@ import warnings
 import numpy as np
 import pytest
 
-from roughgp.metrology.filters import (PREFERRED_NESTING_INDICES, default_cutoffs,
-                                       gaussian_filter, gaussian_kernel, l_filter, s_filter,
-                                       surface_texture, transmission)
-from roughgp.metrology.form import (remove_cylinder, remove_form, remove_plane,
-                                    remove_polynomial)
+from roughgp.metrology.filters import (
+    PREFERRED_NESTING_INDICES,
+    default_cutoffs,
+    gaussian_filter,
+    gaussian_kernel,
+    l_filter,
+    s_filter,
+    surface_texture,
+    transmission,
+)
+from roughgp.metrology.form import remove_cylinder, remove_form, remove_plane, remove_polynomial
 
 surfalize = pytest.importorskip("surfalize")
 
