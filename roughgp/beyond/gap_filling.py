@@ -60,7 +60,7 @@ from roughgp.common.grid import normalize
 from roughgp.sampling.circulant import NotEmbeddableError, wrapped_lags
 from roughgp.sampling.grid_sampler import acvf_of, sample_grid
 
-__all__ = ["GapFill", "ToeplitzOperator", "fill_gaps", "conjugate_gradients"]
+__all__ = ["GapFill", "ToeplitzOperator", "fill_gaps", "conjugate_gradients", "missing_map"]
 
 PRECONDITIONERS = ("circulant", None)
 _SINGLE_TOL = 1e-5  # the tightest relative residual asked of a float32 CG solve
@@ -212,7 +212,11 @@ def conjugate_gradients(matvec, rhs, *, precondition=None, tol=1e-6, max_iter=10
     return x, iterations, done
 
 
-def _missing_map(z, mask):
+def missing_map(z, mask, *, allow_complete=False):
+    """``(z as float64, missing)``: the NaN points of the height map ``z`` or-ed with a boolean
+    ``mask`` of points to treat as missing, each checked (a 2-D map of at least 2 x 2 points, no
+    inf, a mask of z's shape and dtype bool, at least one observed point and, unless
+    ``allow_complete``, at least one missing point); a ValueError says what is wrong."""
     z = np.asarray(z, dtype=np.float64)
     if z.ndim != 2 or min(z.shape) < 2:
         raise ValueError(f"z must be a 2-D height map z[iy, ix] with at least 2 points per "
@@ -230,7 +234,7 @@ def _missing_map(z, mask):
         missing = missing | mask
     if np.all(missing):
         raise ValueError("z has no valid (observed) point: all are NaN or masked")
-    if not np.any(missing):
+    if not allow_complete and not np.any(missing):
         raise ValueError("z has no missing point: no NaN and nothing masked, nothing to fill")
     return z, missing
 
@@ -289,7 +293,7 @@ def fill_gaps(z, kernel, *, noise_variance, spacing=1.0, mask=None, n_samples=16
         :class:`GapFill`.
     """
     start = time.perf_counter()
-    z, missing = _missing_map(z, mask)
+    z, missing = missing_map(z, mask)
     check_nonnegative("noise_variance", noise_variance)
     noise_variance = float(noise_variance)
     n_samples = check_integer("n_samples", n_samples, 0)

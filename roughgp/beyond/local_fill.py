@@ -31,6 +31,7 @@ import numpy as np
 import scipy.linalg
 from threadpoolctl import threadpool_limits
 
+from roughgp.beyond.gap_filling import missing_map
 from roughgp.common.checks import check_integer, check_nonnegative
 from roughgp.common.grid import normalize
 from roughgp.sampling.grid_sampler import acvf_of
@@ -91,19 +92,7 @@ def fill_gaps_locally(z, kernel, *, noise_variance, spacing=1.0, mask=None, tile
         min_observed: measured points a window needs before its margin stops growing.
     """
     start = time.perf_counter()
-    z = np.asarray(z, dtype=np.float64)
-    if z.ndim != 2:
-        raise ValueError(f"z must be a 2-D height map z[iy, ix], got shape {z.shape}")
-    if np.any(np.isinf(z)):
-        raise ValueError("z must not hold inf; mark unmeasured points with NaN or in mask")
-    missing = np.isnan(z)
-    if mask is not None:
-        mask = np.asarray(mask)
-        if mask.dtype != bool or mask.shape != z.shape:
-            raise ValueError(f"mask must be a boolean array of the shape of z {z.shape}")
-        missing = missing | mask
-    if missing.all():
-        raise ValueError("z has no measured point: all are NaN or masked")
+    z, missing = missing_map(z, mask, allow_complete=True)
     check_nonnegative("noise_variance", noise_variance)
     tile = check_integer("tile", tile, 1)
     margin = check_integer("margin", margin, 1)
