@@ -36,13 +36,15 @@ from roughgp.experiments.gap_filling import interpolate_baseline
 from roughgp.metrology.measurement import Measurement, read_measurement
 
 __all__ = ["DATA", "LAND_FILE", "PROFILE_FILE", "LAND_L_FILTER", "LandResult", "ProfileResult",
-           "CrossValidation", "bullet_land", "stylus_profile", "cross_validated_fill",
-           "hide_discs"]
+           "CrossValidation", "CV_FILES", "lay_deviation_deg", "land_fit", "land_check", "bullet_land", "stylus_profile", "cross_validated_fill",
+           "centre_crop", "hide_discs"]
 
 DATA = Path(__file__).resolve().parents[2] / "data"
 LAND_FILE = "sample-land.x3p"
 PROFILE_FILE = "dektak-1.csv"
 LAND_L_FILTER = 250.0  #: um: the land's waviness cut-off (a tenth of its width)
+#: the chapter's cross-validated files and their F-operators
+CV_FILES = {"sample-land.x3p": "cylinder", "sur-2.sur": "plane", "opd-1.opd": "plane"}
 
 
 @dataclasses.dataclass(frozen=True)
@@ -53,13 +55,12 @@ class LandResult:
     fit: SurfaceModelFit
     simulation: np.ndarray
     check: ModelCheck
-    fill: MeasuredFill
+    fill: MeasuredFill | None
 
     @property
     def lay_deviation_deg(self) -> float:
         """The fitted lay angle's distance from the striations' direction (y: 90 degrees)."""
-        angle = self.fit.model.hyperparameters["angle_deg"]
-        return float(abs((angle - 90.0 + 90.0) % 180.0 - 90.0))
+        return lay_deviation_deg(self.fit)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -100,15 +101,45 @@ def _read(name):
     return read_measurement(DATA / name)
 
 
-def bullet_land(*, seed=0, n_simulations=19, l_filter=LAND_L_FILTER) -> LandResult:
-    """Fit, simulate, check and fill the bullet land (module docstring)."""
+def lay_deviation_deg(fit: SurfaceModelFit) -> float:
+    """The fitted lay angle (phi of eq 18) from the land's striations (along y: 90 degrees
+    from x), in degrees, 0 to 90."""
+    angle = fit.model.hyperparameters["angle_deg"]
+    return float(abs((angle - 90.0 + 90.0) % 180.0 - 90.0))
+
+
+def land_fit(*, seed=0, l_filter=LAND_L_FILTER) -> tuple[Measurement, SurfaceModelFit]:
+    """The bullet land and eq 18 plus noise fitted to its measured points (cylinder removed,
+    L-filter ``l_filter``): ``(measurement, fit)``."""
     land = _read(LAND_FILE)
     fit = fit_surface_model(land.z, land.spacing, form="cylinder", l=l_filter, seed=seed,
                             data={"file": LAND_FILE})
+    return land, fit
+
+
+def land_check(land: Measurement, fit: SurfaceModelFit, *, seed=0,
+               n_simulations=19) -> ModelCheck:
+    """The land's texture parameters among ``n_simulations`` simulations of ``fit``'s model."""
+    return check_model(fit.model, land.z, n_simulations=n_simulations, seed=seed)
+
+
+def bullet_land(*, seed=0, n_simulations=19, l_filter=LAND_L_FILTER, fill=True) -> LandResult:
+    """Fit (eq 18, :func:`land_fit`), simulate, check (:func:`land_check`) and fill the bullet
+    land (module docstring); ``fill=False`` leaves out the fill of its real holes
+    (``LandResult.fill`` is then None)."""
+    land, fit = land_fit(seed=seed, l_filter=l_filter)
     simulation = fit.model.simulate(land.z.shape, seed=seed + 1)
-    check = check_model(fit.model, land.z, n_simulations=n_simulations, seed=seed)
-    fill = fill_measured_surface(land.z, spacing=land.spacing, form="cylinder", seed=seed)
-    return LandResult(land, fit, simulation, check, fill)
+    check = land_check(land, fit, seed=seed, n_simulations=n_simulations)
+    filled = (fill_measured_surface(land.z, spacing=land.spacing, form="cylinder", seed=seed)
+              if fill else None)
+    return LandResult(land, fit, simulation, check, filled)
+
+
+def centre_crop(name, size) -> tuple:
+    """The slices of the central ``size`` x ``size`` points of ``data/name`` (the whole of an
+    axis shorter than ``size``), for :func:`cross_validated_fill`'s ``crop``."""
+    return tuple(slice(max((n - size) // 2, 0), max((n - size) // 2, 0) + min(n, size))
+                 for n in _read(name).z.shape)
 
 
 def stylus_profile(*, seed=0, num_mixtures=3, decimation=4, n_simulations=19) -> ProfileResult:
