@@ -53,8 +53,9 @@ def _burn(stop_after: float) -> None:  # pragma: no cover - runs in a child proc
             x = x * 1.0000001 + 1e-9
 
 
-def time_fill(path: Path, out: Path, method: str) -> float:
-    """Wall time of one ``roughgp fill`` command (raises if it fails)."""
+def time_fill(path: Path, out: Path, method: str) -> tuple[float, str]:
+    """Wall time of one ``roughgp fill`` command and its own account of the fit's and the
+    fill's seconds (raises if it fails)."""
     command = [sys.executable, "-m", "roughgp.cli.main", "fill", str(path), "--out", str(out),
                "--seed", "0", "--method", method, "--force"]
     start = time.perf_counter()
@@ -64,10 +65,13 @@ def time_fill(path: Path, out: Path, method: str) -> float:
     seconds = time.perf_counter() - start
     if done.returncode != 0:
         raise RuntimeError(f"roughgp fill failed ({done.returncode}): {done.stderr[-2000:]}")
-    return seconds
+    parts = [line.split(": ")[0] if line.startswith("eq 18 fitted") else line.split(" (")[0]
+             for line in done.stderr.splitlines()
+             if line.startswith(("eq 18 fitted", "filled in"))]
+    return seconds, "; ".join(parts)
 
 
-def time_busy(path: Path, out: Path, method: str, limit: float) -> float:
+def time_busy(path: Path, out: Path, method: str, limit: float) -> tuple[float, str]:
     """The same command while :data:`NEIGHBOURS` processes burn a CPU each; the neighbours
     are ended by their process ids afterwards."""
     context = multiprocessing.get_context("spawn")
@@ -102,10 +106,11 @@ def main():
         quiet = [time_fill(path, out, args.method) for _ in range(args.repeats)]
         busy = [time_busy(path, out, args.method, args.limit) for _ in range(args.repeats)]
     print(f"{'run':>4} {'quiet [s]':>10} {f'{NEIGHBOURS} busy neighbours [s]':>26}")
-    for i, (q, b) in enumerate(zip(quiet, busy)):
+    for i, ((q, q_parts), (b, b_parts)) in enumerate(zip(quiet, busy)):
         print(f"{i + 1:>4} {q:>10.1f} {b:>26.1f}")
-    print(f"slow-down with busy neighbours: {np.median(busy) / np.median(quiet):.1f}x "
-          f"(median of {args.repeats})")
+        print(f"     quiet: {q_parts}\n     busy:  {b_parts}")
+    ratio = np.median([b for b, _ in busy]) / np.median([q for q, _ in quiet])
+    print(f"slow-down with busy neighbours: {ratio:.1f}x (median of {args.repeats})")
 
 
 if __name__ == "__main__":

@@ -1,7 +1,9 @@
 """Tests of the claims ledger (roughgp.ledger: types, checks, table, runner).
 
-The quick checks run here; the slow ones (figures 2, 3, 5, 7: seconds to a minute each) run
-in the chapter "Claims ledger", which nbmake executes, and through `roughgp reproduce`."""
+The quick checks run here; the slow ones (figures 2, 3, 5, 7, the 2-D long correlation, which
+reuses figure 2's draw, and the measured data: seconds to a minute each) run in the chapter
+"Claims ledger", which nbmake executes, and through `roughgp reproduce`; their computations have
+small-size tests in tests/experiments."""
 
 import json
 from pathlib import Path
@@ -14,7 +16,7 @@ from roughgp.ledger import CLAIMS, VERDICTS, Check, Claim, runner
 BOOK = Path(__file__).resolve().parents[2] / "book"
 QUICK = ["eq5-duality", "fig1-acvf", "sec2.3-ma-finite", "sec2.3-arma-linear",
          "sec2.3-gp-is-arma", "sec2.3-ar-not-gp", "eq16-17-moving-average",
-         "conclusion-long-correlation", "sec2.2-sampling",
+         "sec2.2-sampling",
          "conclusion-non-gaussian", "future-prescribed-parameters",
          "future-gap-filling", "scale-device"]
 
