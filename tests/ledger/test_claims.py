@@ -1,7 +1,7 @@
 """Tests of the claims ledger (roughgp.ledger: types, checks, table, runner).
 
 The quick checks run here; the slow ones (figures 2, 3, 5, 7: seconds to a minute each) run
-in the chapter "Claims ledger", which nbmake executes, and through `roughgp reproduce`."""
+in the chapter "Claims ledger", which the tests execute, and through `roughgp reproduce`."""
 
 import json
 from pathlib import Path
