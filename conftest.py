@@ -17,7 +17,6 @@ import pytest
 from booktools import notebook_cache
 
 
-
 def pytest_configure(config):
     if not hasattr(config, "workerinput"):  # the controller (or a run without xdist) only
         notebook_cache.prepare()
@@ -40,6 +39,8 @@ class NotebookProgress:
     def _say(self, text):
         terminal = self.config.pluginmanager.get_plugin("terminalreporter")
         if terminal is not None:
+            if getattr(terminal._tw, "width_of_current_line", 0):  # after a row of dots
+                terminal.write("\n")
             terminal.write_line(text)
 
     def pytest_collection_finish(self, session):
