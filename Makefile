@@ -1,11 +1,17 @@
 # The two set-up commands of the README: `make book` and `make test`.
 # Each creates ./.venv on first use (torch==2.13.0 first, then the lock, then roughgp).
+# Both execute the notebooks through one cache (book/_build/.jupyter_cache, see
+# booktools/notebook_cache.py): whichever runs second reuses what the first executed.
+# `make student` writes the labs without their solutions (book/_build/student/).
 PYTHON ?= python3.11
 VENV ?= .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.roughgp-installed
 
-.PHONY: install book test clean
+# Test processes side by side (the notebooks run two at a time on the 2-core reference machine).
+JOBS ?= 2
+
+.PHONY: install book test student clean
 
 $(STAMP): requirements.lock pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -22,7 +28,10 @@ book: $(STAMP)
 	@echo "book: open book/_build/html/index.html"
 
 test: $(STAMP)
-	$(BIN)/python -m pytest
+	$(BIN)/python -m pytest -n $(JOBS) --dist worksteal
+
+student: $(STAMP)
+	$(BIN)/python -m booktools.student
 
 clean:
 	rm -rf book/_build

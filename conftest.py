@@ -1,10 +1,103 @@
-"""pytest: every notebook run (nbmake's items for book/ and notebooks/) carries the marker
-``notebook``, so ``pytest -m "not notebook"`` runs the unit tier alone."""
+"""pytest: every chapter (``book/*.ipynb``) and every lab (``book/labs/*.ipynb``) is a test item.
+
+Each notebook is executed cell by cell (a failing cell, an assert of a claim among them, fails
+the test with its traceback) through the jupyter-cache that the book build reads
+(:mod:`booktools.notebook_cache`): the notebooks run once for both, and a notebook whose cells,
+library, lock and data are unchanged since its last successful run is not run again (the test
+says "cached"). ``make test`` on a fresh clone, as CI runs it, executes everything.
+
+Each notebook item carries the marker ``notebook``: ``pytest -m "not notebook"`` runs the unit
+tier alone.
+"""
+
+from __future__ import annotations
 
 import pytest
 
+from booktools import notebook_cache
+
+
+def pytest_configure(config):
+    if not hasattr(config, "workerinput"):  # the controller (or a run without xdist) only
+        notebook_cache.prepare()
+        config.pluginmanager.register(NotebookProgress(config), "roughgp-notebook-progress")
+
 
 def pytest_collection_modifyitems(items):
-    for item in items:
-        if str(item.path).endswith(".ipynb"):
-            item.add_marker(pytest.mark.notebook)
+    """The notebooks first: they are the long items, and two test processes share them best
+    when they start early."""
+    items.sort(key=lambda item: not isinstance(item, NotebookItem))
+
+
+class NotebookProgress:
+    """One line per notebook as it starts and ends (the notebooks are what a person waits for),
+    with xdist's workers as without them."""
+
+    def __init__(self, config):
+        self.config, self.total, self.done = config, None, 0
+
+    def _say(self, text):
+        terminal = self.config.pluginmanager.get_plugin("terminalreporter")
+        if terminal is not None:
+            if getattr(terminal._tw, "width_of_current_line", 0):  # after a row of dots
+                terminal.write("\n")
+            terminal.write_line(text)
+
+    def pytest_collection_finish(self, session):
+        if session.items:  # without xdist; under xdist the workers collect
+            self.total = sum(isinstance(item, NotebookItem) for item in session.items)
+
+    def pytest_xdist_node_collection_finished(self, node, ids):
+        self.total = sum(i.endswith(".ipynb") or ".ipynb::" in i for i in ids)
+
+    def pytest_runtest_logstart(self, nodeid, location):
+        if ".ipynb::" in nodeid:
+            self._say(f"notebook {nodeid.split('::')[0]}: running ...")
+
+    def pytest_runtest_logreport(self, report):
+        if ".ipynb::" in report.nodeid and report.when == "call":
+            self.done += 1
+            how = dict(report.user_properties).get("notebook", "")
+            self._say(f"notebook {report.nodeid.split('::')[0]}: {report.outcome} {how} "
+                      f"[{self.done}/{self.total or '?'}]")
+
+
+def pytest_collect_file(file_path, parent):
+    if file_path.suffix == ".ipynb" and ".ipynb_checkpoints" not in file_path.parts \
+            and "_build" not in file_path.parts:
+        return NotebookFile.from_parent(parent, path=file_path)
+    return None
+
+
+class NotebookFile(pytest.File):
+    def collect(self):
+        yield NotebookItem.from_parent(self, name=self.path.name)
+
+
+class NotebookFailed(Exception):
+    pass
+
+
+class NotebookItem(pytest.Item):
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        self.add_marker(pytest.mark.notebook)
+
+    def runtest(self):
+        run = notebook_cache.execute(self.path)
+        how = "cached" if run.cached else "executed"
+        self.user_properties.append(("notebook", f"{how} ({run.seconds:.0f} s)"))
+        if run.cached:
+            self.add_report_section("call", "notebook", f"taken from the cache: its cells, "
+                                    f"roughgp, the lock and the data are unchanged since it "
+                                    f"passed in {run.seconds:.0f} s")
+        if run.error is not None:
+            raise NotebookFailed(run.error)
+
+    def repr_failure(self, excinfo, style=None):
+        if isinstance(excinfo.value, NotebookFailed):
+            return f"{self.path.name}: a cell failed\n{excinfo.value}"
+        return super().repr_failure(excinfo, style)
+
+    def reportinfo(self):
+        return self.path, 0, f"notebook {self.path.relative_to(self.config.rootpath)}"

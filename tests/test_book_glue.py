@@ -9,7 +9,8 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-NOTEBOOKS = sorted((ROOT / "book").glob("*.ipynb")) + sorted((ROOT / "notebooks").glob("*.ipynb"))
+NOTEBOOKS = sorted(p for p in (ROOT / "book").rglob("*.ipynb") if "_build" not in p.parts
+                   and ".ipynb_checkpoints" not in p.parts)
 REFERENCE = re.compile(r"\{glue(?::[a-z]+)?\}`([^`:]+)")
 GLUED = re.compile(r"""glue\(\s*(?:f?["'])([^"']+)["']""")
 

@@ -29,6 +29,10 @@ def add_parser(sub, formatter) -> None:
                    help="run only these claims (see --list)")
     p.add_argument("--out", metavar="DIR",
                    help="write DIR/ledger.md, DIR/ledger.json and DIR/figures/KEY.png")
+    p.add_argument("--reuse", action="store_true",
+                   help="with --out DIR: report the run saved in DIR (the book's chapter "
+                        "'Claims ledger' saves one in book/_build/ledger) if roughgp, its data "
+                        "and the libraries are unchanged since; otherwise run the checks")
     p.add_argument("--list", action="store_true", help="list the claims and exit")
     p.set_defaults(func=run)
 
@@ -36,6 +40,7 @@ def add_parser(sub, formatter) -> None:
 def run(args) -> int:
     """``roughgp reproduce``: run the claims ledger, print it, exit 1 on a regression."""
     from roughgp import ledger
+    from roughgp.ledger import stored
     if args.list:
         for c in ledger.CLAIMS:
             print(f"{c.key}  ({c.where}; {c.verdict})")
@@ -53,22 +58,40 @@ def run(args) -> int:
     out = Path(args.out) if args.out else None
     if out is not None and out.exists() and not out.is_dir():
         raise UsageError(f"--out {args.out} exists and is not a directory")
+    if args.reuse and out is None:
+        raise UsageError("--reuse needs --out DIR (the folder of the saved run)")
     start = time.perf_counter()
-    outcomes = ledger.run(full=args.full, only=args.only,
-                          figures_dir=None if out is None else out / "figures",
-                          progress=err)
+    outcomes = None
+    if args.reuse:
+        outcomes, why = stored.load(out, full=args.full)
+        err(f"reusing {why} in {out}" if outcomes is not None
+            else f"--reuse: {why}; running the checks")
+        if outcomes is not None and args.only:
+            keep = set(args.only)
+            outcomes = [o for o in outcomes if o.claim.key in keep]
+    reused = outcomes is not None
+    if outcomes is None:
+        outcomes = ledger.run(full=args.full, only=args.only,
+                              figures_dir=None if out is None else out / "figures",
+                              progress=err)
     rows = [(o.claim.key, o.claim.verdict, o.status,
              o.value if o.error is None else f"{o.value} ({o.error})") for o in outcomes]
     key_width = min(28, max([5] + [len(o.claim.key) for o in outcomes]))
     widths = (key_width, 18, 9, WIDTH - key_width - 18 - 9 - 6)
     print(table(rows, widths, ("claim", "verdict", "status", "our value")))
     regressed = [o.claim.key for o in outcomes if o.regressed]
-    print(f"\n{len(outcomes)} claim(s) in {time.perf_counter() - start:.1f} s"
-          f"{' (paper sizes)' if args.full else ''}: "
+    seconds = sum(o.seconds for o in outcomes) if reused else time.perf_counter() - start
+    print(f"\n{len(outcomes)} claim(s) in {seconds:.1f} s"
+          f"{' (reused)' if reused else ''}{' (paper sizes)' if args.full else ''}: "
           f"{len(outcomes) - len(regressed)} ok, {len(regressed)} regressed")
-    if out is not None:
-        md, js = ledger.write(outcomes, out)
-        err(f"wrote {md}, {js} and the figures in {out / 'figures'}")
+    if out is not None and not reused:
+        if args.only:  # a partial run is not one that --reuse may report
+            (out / stored.RUN_FILE).unlink(missing_ok=True)
+            written = ", ".join(str(p) for p in ledger.write(outcomes, out))
+        else:
+            run_file = stored.save(outcomes, out, full=args.full)
+            written = f"{out / 'ledger.md'}, {out / 'ledger.json'}, {run_file}"
+        err(f"wrote {written} and the figures in {out / 'figures'}")
     if regressed:
         err(f"REGRESSED (the verdict must be revisited): {', '.join(regressed)}")
         return 1

@@ -57,7 +57,8 @@ def run(*, full: bool = False, only: Iterable[str] | None = None,
         only: claim keys to run (each must exist); None runs all.
         figures_dir: where to save each check's figure as ``KEY.png`` (created); None
             closes the figures unsaved.
-        progress: called with a line of text before and after each check (e.g. ``print``).
+        progress: called with a line of text before and after each check (e.g. ``print``),
+            which starts with the claim's place in the run (``[3/25]``).
 
     Returns:
         the :class:`Outcome` of each claim run. A check that raises becomes an outcome
@@ -71,12 +72,12 @@ def run(*, full: bool = False, only: Iterable[str] | None = None,
         figures_dir = Path(figures_dir)
         figures_dir.mkdir(parents=True, exist_ok=True)
     outcomes = []
-    for c in selected:
+    for i, c in enumerate(selected, start=1):
         if c.check is None:
             outcomes.append(Outcome(c, "-", True, 0.0))
             continue
         if progress:
-            progress(f"{c.key}: {c.where} ...")
+            progress(f"[{i}/{len(selected)}] {c.key}: {c.where} ...")
         start = time.perf_counter()
         backend = matplotlib.get_backend()
         try:
@@ -96,7 +97,8 @@ def run(*, full: bool = False, only: Iterable[str] | None = None,
         outcome = Outcome(c, result.value, bool(result.holds), seconds, path, error)
         outcomes.append(outcome)
         if progress:
-            progress(f"{c.key}: {outcome.status} ({seconds:.1f} s) {outcome.value}")
+            progress(f"[{i}/{len(selected)}] {c.key}: {outcome.status} ({seconds:.1f} s) "
+                     f"{outcome.value}")
     return outcomes
 
 

@@ -2,7 +2,7 @@
 
 The quick checks run here; the slow ones (figures 2, 3, 5, 7, the 2-D long correlation, which
 reuses figure 2's draw, and the measured data: seconds to a minute each) run in the chapter
-"Claims ledger", which nbmake executes, and through `roughgp reproduce`; their computations have
+"Claims ledger", which the tests execute, and through `roughgp reproduce`; their computations have
 small-size tests in tests/experiments."""
 
 import json

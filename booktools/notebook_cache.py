@@ -1,0 +1,149 @@
+"""One execution per notebook: the jupyter-cache that the tests and the book build share.
+
+The book is built by myst-nb with ``execute_notebooks: cache``: a chapter whose code cells are
+unchanged since its last successful run is taken from ``book/_build/.jupyter_cache`` instead of
+being executed again. The tests (``make test``) execute every chapter and lab through the same
+cache with the same executor (:func:`execute`), so a ``make book`` after ``make test`` executes
+nothing, and a second ``make book`` with nothing changed only renders.
+
+jupyter-cache keys a notebook by its code cells alone; the book's notebooks also depend on the
+library, the pinned environment, the data they read and the size switch. :func:`fingerprint`
+hashes those, and :func:`prepare` empties the cache when the fingerprint changed, so a change to
+``roughgp/``, to ``requirements.lock``, to ``pyproject.toml``, to ``data/`` or to
+``ROUGHGP_FULL`` re-executes every chapter. A fresh clone has no cache: everything runs.
+
+As a Sphinx extension (``sphinx.local_extensions`` in ``book/_config.yml``) :func:`setup` runs
+:func:`prepare` before myst-nb opens the cache, so ``jupyter-book build book/`` is safe on its
+own as well, and makes Sphinx re-read every notebook when the fingerprint changed since the last
+build (Sphinx re-reads only the pages whose own source changed).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import platform
+import shutil
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+BOOK = ROOT / "book"
+CACHE = BOOK / "_build" / ".jupyter_cache"
+KEY_FILE = "roughgp-fingerprint.txt"
+# What every chapter depends on besides its own cells (paths relative to the repository).
+DEPENDENCIES = ("roughgp", "data", "requirements.lock", "pyproject.toml")
+TIMEOUT = 900  # seconds per cell, as book/_config.yml's execute.timeout
+
+__all__ = ["CACHE", "Executed", "execute", "fingerprint", "prepare", "setup"]
+
+
+def _files(root: Path):
+    for name in DEPENDENCIES:
+        path = root / name
+        if path.is_file():
+            yield path
+        elif path.is_dir():
+            yield from sorted(p for p in path.rglob("*") if p.is_file()
+                              and "__pycache__" not in p.parts and p.suffix != ".pyc")
+
+
+def fingerprint(root: Path = ROOT) -> str:
+    """SHA-256 over what the notebooks depend on: the files of :data:`DEPENDENCIES` (names and
+    contents), the Python and torch versions, and the ``ROUGHGP_FULL`` switch."""
+    h = hashlib.sha256()
+    for path in _files(root):
+        h.update(str(path.relative_to(root)).encode() + b"\0")
+        h.update(hashlib.sha256(path.read_bytes()).digest())
+    try:
+        from importlib.metadata import version
+        torch = version("torch")
+    except Exception:  # noqa: BLE001 - not installed: part of the key as such
+        torch = "none"
+    full = os.environ.get("ROUGHGP_FULL", "").strip().lower() in {"1", "true", "yes"}
+    h.update(f"python {platform.python_version()} torch {torch} full {full}".encode())
+    return h.hexdigest()
+
+
+def prepare(cache: Path = CACHE, root: Path = ROOT, log=print) -> Path:
+    """Empty ``cache`` if it was filled under another :func:`fingerprint`; create it (and its
+    database) if missing. Returns ``cache``."""
+    cache = Path(cache)
+    key = fingerprint(root)
+    key_file = cache / KEY_FILE
+    if cache.exists() and (not key_file.is_file() or key_file.read_text().strip() != key):
+        log(f"notebook cache: roughgp, the lock, the data or ROUGHGP_FULL changed; "
+            f"every notebook runs again (emptied {cache})")
+        shutil.rmtree(cache)
+    cache.mkdir(parents=True, exist_ok=True)
+    key_file.write_text(key + "\n")
+    from jupyter_cache import get_cache
+    get_cache(str(cache)).list_cache_records()  # creates the database once, before any worker
+    return cache
+
+
+@dataclass
+class Executed:
+    """A notebook's run: ``cached`` (taken from the cache), ``seconds`` (its execution time,
+    as recorded when it ran), ``error`` (the failing cell's traceback, or None)."""
+
+    path: Path
+    cached: bool
+    seconds: float
+    error: str | None = None
+
+
+def execute(path: str | Path, cache: Path = CACHE, timeout: int = TIMEOUT) -> Executed:
+    """Take ``path``'s outputs from the cache, or execute it (in its own folder, as the book
+    build does) and cache it if every cell ran; what myst-nb's cache mode does, so that the
+    book build finds the result."""
+    import nbformat
+    from jupyter_cache import get_cache
+    from jupyter_cache.base import CacheBundleIn
+    from jupyter_cache.cache.db import NbProjectRecord
+    from jupyter_cache.executors.utils import single_nb_execution
+
+    path = Path(path).resolve()
+    store = get_cache(str(cache))
+    notebook = nbformat.read(path, as_version=4)
+    try:
+        record = store.match_cache_notebook(notebook)
+        return Executed(path, True, float(record.data.get("execution_seconds") or 0.0))
+    except KeyError:
+        pass
+    stage = store.add_nb_to_project(str(path))
+    NbProjectRecord.remove_tracebacks([stage.pk], store.db)
+    start = time.perf_counter()
+    result = single_nb_execution(notebook, cwd=str(path.parent), allow_errors=False,
+                                 timeout=timeout, meta_override=True)
+    seconds = time.perf_counter() - start
+    if result.err is not None:
+        NbProjectRecord.set_traceback(stage.uri, result.exc_string, store.db)
+        return Executed(path, False, seconds, result.exc_string or repr(result.err))
+    store.cache_notebook_bundle(CacheBundleIn(notebook, stage.uri,
+                                              data={"execution_seconds": result.time}),
+                                check_validity=False, overwrite=True)
+    return Executed(path, False, seconds)
+
+
+def setup(app):
+    """Sphinx extension: :func:`prepare` the cache myst-nb is about to open, and re-read every
+    notebook when the fingerprint differs from the one of the last build (Sphinx itself only
+    re-reads the pages whose source changed; a notebook's outputs also change with roughgp)."""
+    def _prepare(app, config):
+        path = config.nb_execution_cache_path or Path(app.outdir).parent / ".jupyter_cache"
+        prepare(Path(path).resolve(), log=lambda msg: print(msg, file=sys.stderr))
+
+    def _outdated(app, env, added, changed, removed):
+        key, old = fingerprint(), getattr(env, "roughgp_notebook_key", None)
+        env.roughgp_notebook_key = key
+        if old is None or old == key:
+            return []
+        return [doc for doc in env.found_docs
+                if str(env.doc2path(doc)).endswith(".ipynb") and doc not in added]
+
+    app.connect("config-inited", _prepare, priority=400)
+    app.connect("env-get-outdated", _outdated)
+    return {"parallel_read_safe": False, "parallel_write_safe": True}
