@@ -12,15 +12,26 @@ tier alone.
 
 from __future__ import annotations
 
+import os
+
 import pytest
 
 from booktools import notebook_cache
+
+
+# With several test processes on few cores, each process (and each notebook's kernel, which
+# inherits the environment) computes on one thread: two processes of two BLAS / OpenMP threads
+# each on two cores run small factorisations many times slower than one thread would.
+THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
 
 
 def pytest_configure(config):
     if not hasattr(config, "workerinput"):  # the controller (or a run without xdist) only
         notebook_cache.prepare()
         config.pluginmanager.register(NotebookProgress(config), "roughgp-notebook-progress")
+    elif int(config.workerinput.get("workercount", 1)) > 1:
+        for name in THREAD_VARIABLES:
+            os.environ.setdefault(name, "1")
 
 
 def pytest_collection_modifyitems(items):
