@@ -8,8 +8,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from roughgp.ledger.types import Check
 
 __all__ = ["check_duality", "check_figure1", "check_ma_finite", "check_arma_linear", "check_gp_is_arma", "check_ar_not_gp", "check_moving_average"]
@@ -31,88 +29,70 @@ def check_duality(full):
 
 def check_figure1(full):
     """Figure 1: eq 18 with phi = 30 deg decays slowest along phi, with 1/e at lambda_a
-    along and lambda_b across."""
-    from roughgp.gp import acvf
-    variance, (la, lb), phi = 1.0, (0.5, 0.1), math.pi / 6
-    angles = np.radians(np.arange(-90.0, 90.0, 0.05))
-    unit = np.stack([np.cos(angles), np.sin(angles)], axis=-1)
-    r = acvf.rotated_exponential(0.3 * unit, variance, (la, lb), phi)
-    slowest = math.degrees(angles[np.argmax(r)])
-    along = acvf.rotated_exponential(la * np.array([[math.cos(phi), math.sin(phi)]]),
-                                     variance, (la, lb), phi)[0]
-    across = acvf.rotated_exponential(lb * np.array([[-math.sin(phi), math.cos(phi)]]),
-                                      variance, (la, lb), phi)[0]
-    holds = abs(slowest - 30.0) <= 0.1 and abs(along - math.exp(-1)) < 1e-12 \
-        and abs(across - math.exp(-1)) < 1e-12
-    return Check(f"slowest decay at {slowest:.2f} deg; r = {along:.4f}, {across:.4f} of "
+    along and lambda_b across (roughgp.experiments.arma_relations.figure1_ridge, as in the
+    chapter notation)."""
+    from roughgp.experiments import arma_relations
+    r = arma_relations.figure1_ridge()
+    holds = abs(r.slowest_deg - 30.0) <= 0.1 and abs(r.along - math.exp(-1)) < 1e-12 \
+        and abs(r.across - math.exp(-1)) < 1e-12
+    return Check(f"slowest decay at {r.slowest_deg:.2f} deg; r = {r.along:.4f}, {r.across:.4f} of "
                  f"sigma_k^2 at lambda_a along / lambda_b across (1/e = 0.3679)", holds)
 
 
 # ------------------------------------------------------------------ section 2.3
 
 def check_ma_finite(full):
-    """MA(q) is a linear process (eq 13) with finitely many weights: ACVF zero beyond q."""
-    from roughgp.models import arma
-    ma = [0.5, -0.3, 0.2]
-    weights = arma.linear_process_weights([], ma, 10)
-    r = arma.arma_acvf([], ma, 1.0, 10)
-    from_weights = arma.acvf_from_weights(weights, 1.0, 10)
-    holds = (np.all(weights[4:] == 0) and np.all(r[4:] == 0)
-             and np.abs(from_weights - r).max() < 1e-14)
-    return Check(f"weights beyond b_3: {np.abs(weights[4:]).max():.0e}; ACVF beyond lag 3: "
-                 f"{np.abs(r[4:]).max():.0e}", bool(holds))
+    """MA(q) is a linear process (eq 13) with finitely many weights: ACVF zero beyond q
+    (roughgp.experiments.arma_relations.ma_finite, as in the chapter arma)."""
+    from roughgp.experiments import arma_relations
+    r = arma_relations.ma_finite()
+    holds = r.weights_beyond_q == 0 and r.acvf_beyond_q == 0 and r.gap < 1e-14
+    return Check(f"weights beyond b_{len(r.ma)}: {r.weights_beyond_q:.0e}; ACVF beyond lag "
+                 f"{len(r.ma)}: {r.acvf_beyond_q:.0e}", bool(holds))
 
 
 def check_arma_linear(full):
     """A stationary ARMA is a causal linear process (eq 14): the truncated MA(K) ACVF
-    converges to the ARMA's."""
-    from roughgp.models import arma
-    ar, ma = [1.2, -0.5], [0.4]
-    exact = arma.arma_acvf(ar, ma, 1.0, 20)
-    errors = []
-    for k in (8, 16, 32, 64, 128):
-        w = arma.linear_process_weights(ar, ma, k)
-        errors.append(np.abs(arma.acvf_from_weights(w, 1.0, 20) - exact).max())
+    converges to the ARMA's (roughgp.experiments.arma_relations.arma_truncation, as in the
+    chapter arma)."""
+    from roughgp.experiments import arma_relations
+    r = arma_relations.arma_truncation()
+    errors = r.errors
     holds = errors[-1] < 1e-12 and all(b < a for a, b in zip(errors, errors[1:]) if a > 1e-14)
-    return Check("max ACVF error with K = 8, 16, ..., 128 weights: "
+    return Check(f"max ACVF error with K = {', '.join(str(k) for k in r.truncations)} weights: "
                  + ", ".join(f"{e:.0e}" for e in errors), bool(holds))
 
 
 def check_gp_is_arma(full):
-    """A sampled GP is an ARMA: exponential -> AR(1), Matern 3/2 -> ARMA(2, 1), exactly."""
-    from roughgp.gp import kernels
-    from roughgp.models import arma
-    lags = np.arange(200.0)[:, None]
-    ou = kernels.MaternKernel(nu=0.5, variance=2.0, lengthscale=500.0)
-    ar, ma, s2 = arma.ou_to_ar1(2.0, 500.0, 1.0)
-    gap_ou = np.abs(arma.arma_acvf(ar, ma, s2, 200) - ou.acvf(lags)).max() / 2.0
-    m32 = kernels.MaternKernel(nu=1.5, variance=2.0, lengthscale=7.0)
-    ar, ma, s2 = arma.matern32_to_arma21(2.0, 7.0, 1.0)
-    gap_m32 = np.abs(arma.arma_acvf(ar, ma, s2, 200) - m32.acvf(lags)).max() / 2.0
-    return Check(f"exponential (lambda = 500) as AR(1): {gap_ou:.0e}; Matern 3/2 as "
-                 f"ARMA(2, 1): {gap_m32:.0e} of r(0)", gap_ou < 1e-13 and gap_m32 < 1e-12)
+    """A sampled GP is an ARMA: exponential -> AR(1), Matern 3/2 -> ARMA(2, 1), exactly
+    (roughgp.experiments.arma_relations.sampled_gp_as_arma, as in the chapter arma)."""
+    from roughgp.experiments import arma_relations
+    r = arma_relations.sampled_gp_as_arma()
+    gap_ou, gap_m32 = r.gap_ou / r.variance, r.gap_m32 / r.variance
+    return Check(f"exponential (lambda = {r.lengthscale:g}) as AR(1): {gap_ou:.0e}; Matern 3/2 "
+                 f"as ARMA(2, 1): {gap_m32:.0e} of r(0)", gap_ou < 1e-13 and gap_m32 < 1e-12)
 
 
 def check_ar_not_gp(full):
-    """Not every AR process is a sampled GP of its kind: AR(1) with a < 0 alternates."""
-    from roughgp.models import arma
-    r = arma.arma_acvf([-0.6], [], 1.0, 8)
-    try:
-        arma.ar1_to_ou(-0.6, 1.0, 1.0)
-        refused = False
-    except ValueError:
-        refused = True
-    alternates = bool(np.all(np.sign(r) == (-1.0) ** np.arange(8)))
-    return Check(f"AR(1), a = -0.6: ACVF signs {''.join('+' if v > 0 else '-' for v in r)}; "
-                 f"no OU process maps to it: {refused}", alternates and refused)
+    """Not every AR process is a sampled GP of its kind: AR(1) with a < 0 alternates
+    (roughgp.experiments.arma_relations.negative_ar1, as in the chapter arma)."""
+    from roughgp.experiments import arma_relations
+    r = arma_relations.negative_ar1()
+    refused = bool(r.refusal)
+    return Check(f"AR(1), a = {r.a:g}: ACVF signs {''.join('+' if v > 0 else '-' for v in r.acvf)}; "
+                 f"no OU process maps to it: {refused}", r.alternates and refused)
 
 
 def check_moving_average(full):
-    """Eq 16-17: white noise smoothed by a feature map beta has the ACVF int beta beta."""
-    from roughgp.models import moving_average
-    gaussian = moving_average.gaussian_feature_map(variance=2.0, lengthscale=5.0)
-    h = 0.25
-    err = np.abs(moving_average.feature_map_acvf(gaussian, int(40 / h), h)
-                 - gaussian.kernel(h * np.arange(int(40 / h)))).max()
-    return Check(f"Gaussian feature map -> squared-exponential kernel: max error {err:.0e}",
-                 err < 1e-12)
+    """Eq 16-17: white noise smoothed by a feature map beta has the ACVF int beta beta
+    (roughgp.experiments.arma_relations.feature_maps, as in the chapter arma): exact for a
+    Gaussian map, first order in h for the one-sided exponential, which is an AR(1)."""
+    from roughgp.experiments import arma_relations
+    r = arma_relations.feature_maps()
+    gauss, expo = r.gaussian_errors, r.exponential_errors
+    first_order = all(abs(a / b - 2) < 0.1 for a, b in zip(expo, expo[1:]))
+    return Check(f"Gaussian feature map -> squared-exponential kernel: max error "
+                 f"{max(gauss):.0e}; one-sided exponential map: error halves with h "
+                 f"({expo[0]:.1e} at h = {r.steps[0]:g}, {expo[-1]:.1e} at h = {r.steps[-1]:g}), "
+                 f"as AR(1) to {r.ar1_gap:.0e}",
+                 max(gauss) < 1e-12 and first_order and r.ar1_gap < 1e-12)
