@@ -40,7 +40,7 @@ from roughgp.sampling import truncation as tapering
 from roughgp.sampling.truncation import NotEmbeddableError, wrapped_lags
 
 __all__ = ["Embedding", "embed", "draw", "minimal_torus", "predict_torus", "wrapped_lags",
-           "NotEmbeddableError", "TRUNCATIONS"]
+           "NotEmbeddableError", "TRUNCATIONS", "compare_truncations"]
 
 TRUNCATIONS = ("smooth", "none")
 _COARSE_POINTS = 2**20  # the coarse search's torus holds at most about this many points
@@ -230,15 +230,23 @@ def predict_torus(acvf, shape, spacing, *, boundary_level=1e-5, max_points=2**27
         return _predict_wrapped(acvf, shape, spacing, boundary_level=boundary_level,
                                 max_points=max_points)
     _check_truncation(truncation)
-    factor = max(1, math.ceil(math.sqrt(np.prod(minimal_torus(shape)) / _COARSE_POINTS)
-                              if len(shape) == 2 else np.prod(minimal_torus(shape)) / _COARSE_POINTS))
+    options = dict(tolerance=tolerance, approximate=approximate,
+                   max_clipped_fraction=max_clipped_fraction, max_points=max_points)
+    return _predict_smooth(acvf, shape, spacing, **options)[0]
+
+
+def _predict_smooth(acvf, shape, spacing, **options):
+    """(torus, the search's result when the coarse copy is the grid itself, else None)."""
+    minimal = int(np.prod(minimal_torus(shape), dtype=np.int64))
+    ratio = minimal / _COARSE_POINTS
+    factor = max(1, math.ceil(math.sqrt(ratio) if len(shape) == 2 else ratio))
     coarse = tuple(math.ceil((n - 1) / factor) + 1 for n in shape)
     coarse_spacing = tuple(d * factor for d in spacing)
-    options = dict(tolerance=tolerance, approximate=approximate,
-                   max_clipped_fraction=max_clipped_fraction)
-    margins = tapering.search_margins(acvf, coarse, coarse_spacing, max_points=max_points,
-                              **options)[0]
-    return tapering.torus_of(shape, tuple(k * factor for k in margins))
+    found = tapering.search_margins(acvf, coarse, coarse_spacing, **options)
+    # the same outer extent of taper on the fine grid (the coarse grid's lags reach a bit further)
+    margins = tuple(k * factor + (c - 1) * factor - (n - 1)
+                    for k, c, n in zip(found[0], coarse, shape))
+    return tapering.torus_of(shape, margins), (found if factor == 1 else None)
 
 
 def _check_truncation(truncation):
@@ -278,10 +286,12 @@ def embed(acvf, shape, spacing=1.0, *, tolerance=1e-10, approximate=False,
         return _embed_wrapped(acvf, shape, spacing, boundary_level=boundary_level, **options)
     shape, spacing = normalize(shape, spacing)
     spacing = tuple(float(d) for d in spacing)
-    torus = predict_torus(acvf, shape, spacing, **options)
-    start = [(m - 2 * n + 1) // 2 for m, n in zip(torus, shape)]
-    margins, eig, variance, min_rel, share, tries = tapering.search_margins(
-        acvf, shape, spacing, start=start, verify_only=True, **options)
+    torus, found = _predict_smooth(acvf, shape, spacing, **options)
+    if found is None:  # searched on a coarse copy: check (and grow) on the full torus
+        start = [(m - 2 * n + 1) // 2 for m, n in zip(torus, shape)]
+        found = tapering.search_margins(acvf, shape, spacing, start=start, verify_only=True,
+                                        **options)
+    margins, eig, variance, min_rel, share, tries = found
     torus_shape = tapering.torus_of(shape, margins)
     clipped = share if approximate else 0.0
     eig = np.clip(eig, 0.0, None, out=eig)
@@ -358,3 +368,16 @@ def _draw_on_device(embedding, n_samples, rng, dtype, device):
         if k + 1 < n_samples:
             out[k + 1] = field.imag[grid]
     return out.cpu().numpy()
+
+
+def compare_truncations(acvf, shape, spacing, torus_shape):
+    """For a smooth embedding on ``torus_shape``: the torus that the plain wrap is predicted to
+    need (at least; its eigenvalue check may grow it further), both sizes over the grid's, and
+    max |c - r| / r(0) over the grid's lags (0: R of eq 10 is unchanged)."""
+    shape, spacing = normalize(shape, spacing)
+    spacing = tuple(float(d) for d in spacing)
+    plain = predict_torus(acvf, shape, spacing, truncation="none")
+    grid = int(np.prod(shape))
+    return dict(smooth=tuple(torus_shape), plain=plain,
+                smooth_ratio=int(np.prod(torus_shape)) / grid, plain_ratio=int(np.prod(plain)) / grid,
+                grid_lag_change=tapering.grid_lag_change(acvf, shape, spacing, torus_shape))
