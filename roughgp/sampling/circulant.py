@@ -21,7 +21,7 @@ ACVF is multiplied, per axis, by a C-infinity taper that is 1 on every lag two g
 have (``|tau_a| <= (n_a - 1) d_a``) and falls to 0 at the torus' wrap. The covariance between
 grid points is unchanged, so the draws stay exact on the grid whenever the eigenvalues are
 >= 0; only the margin beyond the grid's lags is searched, and the torus shrinks toward
-``(2 n)^D`` (figure 2 on 2000 x 2000: about 4000 x 4500 instead of 6250 x 12250). The search
+``(2 n)^D`` (figure 2 on 2000 x 2000: 4032 x 4536 instead of 6250 x 12250). The search
 runs on a coarser copy of the grid (spacing s d, torus <= 2^20 points) and is then checked once
 on the full torus (float64: a float32 FFT's rounding, ~6e-8 log2(M) sum|c| / r(0), is above
 figure 2's smallest eigenvalue, so it could not prove the embedding non-negative).
