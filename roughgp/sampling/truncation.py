@@ -110,15 +110,18 @@ def tapered_eigenvalues(acvf, torus_shape, spacing, shape):
 
 
 def face_levels(acvf, shape, spacing, torus_shape):
-    """Per axis, max |r| / r(0) on the face ``|tau_a| = (n_a - 1) d_a`` of the grid's lags,
-    the other axes over all their lags on the torus (a ridge may cross the face beyond the
-    grid's lags)."""
+    """Per axis, max |r| / r(0) on lags beyond the grid's along it, ``(n_a - 1) d_a <= |tau_a|
+    <= max(m_a / 2, n_a + 15) d_a`` (at most 64 of them), the other axes over all their lags on
+    the torus (a ridge may cross the face beyond the grid's lags; a band, not the face alone,
+    since an oscillating ACVF may vanish on the face itself)."""
     zero = np.zeros((1, len(shape)))
     levels = []
     for axis in range(len(shape)):
         grids = [np.where(np.arange(m) <= m // 2, np.arange(m), np.arange(m) - m) * d
                  for m, d in zip(torus_shape, spacing)]
-        grids[axis] = np.array([-(shape[axis] - 1), shape[axis] - 1]) * spacing[axis]
+        n, m = shape[axis], torus_shape[axis]
+        band = np.unique(np.linspace(n - 1, max(m // 2, n + 15), 64).round())
+        grids[axis] = np.concatenate([-band, band]) * spacing[axis]
         mesh = np.meshgrid(*grids, indexing="ij")
         points = np.stack(mesh[::-1], axis=-1).reshape(-1, len(shape))
         levels.append(float(np.max(np.abs(acvf(points))) / acvf(zero)[0]))
@@ -165,7 +168,7 @@ def search_margins(acvf, shape, spacing, *, tolerance, approximate, max_clipped_
                 f"the ACVF is not positive definite on a grid of spacing {spacing}: on the "
                 f"torus {tries[-1][0]} its circulant embedding has eigenvalues down to "
                 f"{found[3]:.3g} x r(0) ({found[4]:.2g} of the trace) although the ACVF is "
-                f"already below {tolerance:g} x r(0) on the faces of the grid's lags, so no "
+                f"already below {tolerance:g} x r(0) beyond the grid's lags, so no "
                 f"larger torus removes them. A valid kernel (eq 5: its PSD is >= 0) is needed.")
         low = list(margins)
         badness = [lv / max(k, 1) for lv, k in zip(levels, margins)]  # per grid point: scale-free
