@@ -14,6 +14,17 @@ Slowly decaying or anisotropic ACVFs (eq 18 with figure 2's lambda_a = 500) give
 eigenvalues on the minimal torus; the torus is then grown, per axis, until none is left beyond
 a tolerance. Clipping negative eigenvalues makes the draw approximate: only done when asked
 (``approximate=True``), and the clipped share of the variance is reported.
+
+Smooth truncation (``truncation="smooth"``, the default; Bachmayr, Graham, Nguyen & Scheichl
+2020, cf. the cut-off embedding of Gneiting, Sevcikova, Percival, Schlather & Jiang 2006): the
+ACVF is multiplied, per axis, by a C-infinity taper that is 1 on every lag two grid points
+have (``|tau_a| <= (n_a - 1) d_a``) and falls to 0 at the torus' wrap. The covariance between
+grid points is unchanged, so the draws stay exact on the grid whenever the eigenvalues are
+>= 0; only the margin beyond the grid's lags is searched, and the torus shrinks toward
+``(2 n)^D`` (figure 2 on 2000 x 2000: 4032 x 4536 instead of 6250 x 12250). The search
+runs on a coarser copy of the grid (spacing s d, torus <= 2^20 points) and is then checked once
+on the full torus (float64: a float32 FFT's rounding, ~6e-8 log2(M) sum|c| / r(0), is above
+figure 2's smallest eigenvalue, so it could not prove the embedding non-negative).
 """
 
 from __future__ import annotations
@@ -25,15 +36,15 @@ import numpy as np
 import scipy.fft
 
 from roughgp.common.grid import normalize
+from roughgp.sampling import truncation as tapering
+from roughgp.sampling.truncation import NotEmbeddableError, wrapped_lags
 
 __all__ = ["Embedding", "embed", "draw", "minimal_torus", "predict_torus", "wrapped_lags",
-           "NotEmbeddableError"]
+           "NotEmbeddableError", "TRUNCATIONS", "compare_truncations"]
 
-_BLOCK_POINTS = 2**20  # ACVF evaluated on about this many torus points at a time (peak memory)
+TRUNCATIONS = ("smooth", "none")
+_COARSE_POINTS = 2**20  # the coarse search's torus holds at most about this many points
 
-
-class NotEmbeddableError(ValueError):
-    """The ACVF's circulant embedding keeps negative eigenvalues within the allowed torus."""
 
 
 @dataclass(frozen=True)
@@ -47,6 +58,7 @@ class Embedding:
         min_eigenvalue: the most negative eigenvalue relative to the mean eigenvalue r(0).
         clipped_fraction: sum of the clipped negative eigenvalues / trace (0 when exact).
         tries: torus shapes tried, with their relative most negative eigenvalue.
+        truncation: ``"smooth"`` (ACVF tapered beyond the grid's lags) or ``"none"``.
     """
 
     grid_shape: tuple
@@ -56,6 +68,7 @@ class Embedding:
     min_eigenvalue: float
     clipped_fraction: float
     tries: tuple
+    truncation: str = "none"
 
     @property
     def exact(self) -> bool:
@@ -64,26 +77,6 @@ class Embedding:
     @property
     def nbytes(self) -> int:
         return int(self.scale.nbytes)
-
-
-def wrapped_lags(torus_shape, spacing, rows=slice(None)):
-    """Lags of the torus points in (x, y) order, wrapped to [-m/2, m/2) per axis."""
-    axes = [np.where(j <= m // 2, j, j - m) * d
-            for j, m, d in ((np.arange(m), m, d) for m, d in zip(torus_shape, spacing))]
-    axes[0] = axes[0][rows]
-    mesh = np.meshgrid(*axes, indexing="ij")
-    return np.stack(mesh[::-1], axis=-1)
-
-
-def _wrapped_acvf(acvf, torus_shape, spacing):
-    values = np.empty(torus_shape, dtype=np.float64)
-    block_rows = max(1, _BLOCK_POINTS // int(np.prod(torus_shape[1:], dtype=np.int64)))
-    for start in range(0, torus_shape[0], block_rows):
-        rows = slice(start, min(start + block_rows, torus_shape[0]))
-        values[rows] = acvf(wrapped_lags(torus_shape, spacing, rows))
-    if not np.all(np.isfinite(values)):
-        raise ValueError("kernel returned non-finite covariances on the embedding torus")
-    return values
 
 
 def _outer_level(base):
@@ -103,7 +96,7 @@ def _eigenvalues(acvf, torus_shape, spacing):
     the rounding level of the eigenvalues relative to r(0): an FFT of M values computes each
     output to about ``eps * log2(M) * sum|c|``, so a negative eigenvalue of that size is
     rounding, not indefiniteness (it matters on large tori of slowly decaying ACVFs)."""
-    base = _wrapped_acvf(acvf, torus_shape, spacing)
+    base = tapering.wrapped_acvf(acvf, torus_shape, spacing)
     variance = float(base.flat[0])
     if variance <= 0:
         raise ValueError(f"the ACVF at lag 0 must be > 0, got {variance}")
@@ -140,7 +133,7 @@ def minimal_torus(shape):
     return tuple(scipy.fft.next_fast_len(max(2 * (n - 1), 1), real=False) for n in shape)
 
 
-def predict_torus(acvf, shape, spacing, *, boundary_level=1e-5, max_points=2**27):
+def _predict_wrapped(acvf, shape, spacing, *, boundary_level=1e-5, max_points=2**27):
     """A cheap guess of the torus an exact embedding needs: grow the minimal torus, the axis
     with the larger value first, until the ACVF on every wrap boundary is below
     ``boundary_level`` x r(0) (or the torus would exceed ``max_points``). No FFT is taken."""
@@ -156,9 +149,9 @@ def predict_torus(acvf, shape, spacing, *, boundary_level=1e-5, max_points=2**27
         torus[axis] = grown
 
 
-def embed(acvf, shape, spacing=1.0, *, tolerance=1e-10, approximate=False,
-          max_clipped_fraction=1e-4, max_points=2**27, boundary_level=1e-5):
-    """Find a circulant embedding of the grid covariance of ``acvf``.
+def _embed_wrapped(acvf, shape, spacing=1.0, *, tolerance=1e-10, approximate=False,
+                   max_clipped_fraction=1e-4, max_points=2**27, boundary_level=1e-5):
+    """The plain wrap (``truncation="none"``) of :func:`embed`.
 
     Starts from :func:`predict_torus` (the minimal torus grown until the ACVF on each wrap
     boundary is below ``boundary_level`` x r(0)), then checks the eigenvalues and grows the
@@ -181,8 +174,8 @@ def embed(acvf, shape, spacing=1.0, *, tolerance=1e-10, approximate=False,
     """
     shape, spacing = normalize(shape, spacing)
     spacing = tuple(float(d) for d in spacing)
-    torus = predict_torus(acvf, shape, spacing, max_points=max_points,
-                          boundary_level=1e3 * boundary_level if approximate else boundary_level)
+    torus = _predict_wrapped(acvf, shape, spacing, max_points=max_points,
+                             boundary_level=1e3 * boundary_level if approximate else boundary_level)
     torus = list(torus)
     tries = []
     while True:
@@ -217,6 +210,94 @@ def embed(acvf, shape, spacing=1.0, *, tolerance=1e-10, approximate=False,
                 f"{torus_shape}; tried {[t for t, _ in tries]}; the next ({tuple(torus)}) "
                 f"exceeds max_points = {max_points}. Use approximate=True to clip (the lost "
                 f"variance is reported), a smaller grid, or method='cholesky'.")
+
+
+
+def predict_torus(acvf, shape, spacing, *, boundary_level=1e-5, max_points=2**27,
+                  truncation="smooth", tolerance=1e-10, approximate=False,
+                  max_clipped_fraction=1e-4):
+    """The torus an embedding of ``acvf`` on the grid is expected to need.
+
+    ``truncation="smooth"``: the margin beyond the grid's lags found on a coarse copy of the
+    grid (spacing ``s d``, ``s`` chosen so its torus holds <= 2^20 points): a few FFTs of that
+    size (doubling, then two bisections), cached nowhere (``embed`` is). ``"none"``: the
+    minimal torus grown until the ACVF on every wrap boundary is below ``boundary_level`` x
+    r(0), no FFT.
+    """
+    shape, spacing = normalize(shape, spacing)
+    spacing = tuple(float(d) for d in spacing)
+    if truncation == "none":
+        return _predict_wrapped(acvf, shape, spacing, boundary_level=boundary_level,
+                                max_points=max_points)
+    _check_truncation(truncation)
+    options = dict(tolerance=tolerance, approximate=approximate,
+                   max_clipped_fraction=max_clipped_fraction, max_points=max_points)
+    return _predict_smooth(acvf, shape, spacing, **options)[0]
+
+
+def _predict_smooth(acvf, shape, spacing, **options):
+    """(torus, the search's result when the coarse copy is the grid itself, else None)."""
+    minimal = int(np.prod(minimal_torus(shape), dtype=np.int64))
+    ratio = minimal / _COARSE_POINTS
+    factor = max(1, math.ceil(math.sqrt(ratio) if len(shape) == 2 else ratio))
+    coarse = tuple(math.ceil((n - 1) / factor) + 1 for n in shape)
+    coarse_spacing = tuple(d * factor for d in spacing)
+    found = tapering.search_margins(acvf, coarse, coarse_spacing, **options)
+    # the same outer extent of taper on the fine grid (the coarse grid's lags reach a bit further)
+    margins = tuple(k * factor + (c - 1) * factor - (n - 1)
+                    for k, c, n in zip(found[0], coarse, shape))
+    return tapering.torus_of(shape, margins), (found if factor == 1 else None)
+
+
+def _check_truncation(truncation):
+    if truncation not in TRUNCATIONS:
+        raise ValueError(f"truncation must be one of {TRUNCATIONS}, got {truncation!r}")
+
+
+def embed(acvf, shape, spacing=1.0, *, tolerance=1e-10, approximate=False,
+          max_clipped_fraction=1e-4, max_points=2**27, boundary_level=1e-5,
+          truncation="smooth"):
+    """Find a circulant embedding of the grid covariance of ``acvf`` (eq 10's R).
+
+    ``truncation="smooth"`` (default): the ACVF is tapered beyond the grid's lags (module
+    docstring), so R itself is untouched; the margin of taper is found by
+    :func:`predict_torus` on a coarse copy of the grid and checked once on the full torus
+    (grown by 25 % per failure). ``truncation="none"``: the plain wrap of Wood & Chan, the
+    minimal torus grown until the ACVF on each wrap boundary is below ``boundary_level`` x
+    r(0), then by 25 % until the eigenvalues pass.
+
+    Exact: the most negative eigenvalue is >= -``tolerance`` x r(0), or the FFT's own
+    rounding (about ``eps * log2(M) * sum|c| / r(0)``, growing with M) when that is larger.
+    With ``approximate=True`` the torus is instead grown only until the negative eigenvalues
+    hold less than ``max_clipped_fraction`` of the trace; they are then set to zero and
+    that share is reported as ``clipped_fraction``.
+
+    Raises:
+        NotEmbeddableError: when the torus would exceed ``max_points`` before the criterion
+            holds, or at once when the ACVF is already below ``tolerance`` x r(0) beyond the
+            grid's lags (smooth) or on the torus' outer half (none) while significant
+            negative eigenvalues remain: the ACVF sampled at this spacing is then not a valid
+            covariance. The message says how negative the eigenvalues were and what was tried.
+    """
+    _check_truncation(truncation)
+    options = dict(tolerance=tolerance, approximate=approximate,
+                   max_clipped_fraction=max_clipped_fraction, max_points=max_points)
+    if truncation == "none":
+        return _embed_wrapped(acvf, shape, spacing, boundary_level=boundary_level, **options)
+    shape, spacing = normalize(shape, spacing)
+    spacing = tuple(float(d) for d in spacing)
+    torus, found = _predict_smooth(acvf, shape, spacing, **options)
+    if found is None:  # searched on a coarse copy: check (and grow) on the full torus
+        start = [(m - 2 * n + 1) // 2 for m, n in zip(torus, shape)]
+        found = tapering.search_margins(acvf, shape, spacing, start=start, verify_only=True,
+                                        **options)
+    margins, eig, variance, min_rel, share, tries = found
+    torus_shape = tapering.torus_of(shape, margins)
+    clipped = share if approximate else 0.0
+    eig = np.clip(eig, 0.0, None, out=eig)
+    eig /= eig.size
+    scale = np.sqrt(eig, out=eig)
+    return Embedding(shape, spacing, torus_shape, scale, min_rel, clipped, tries, "smooth")
 
 
 def draw(embedding: Embedding, n_samples: int, rng: np.random.Generator, dtype=np.float64,
@@ -287,3 +368,16 @@ def _draw_on_device(embedding, n_samples, rng, dtype, device):
         if k + 1 < n_samples:
             out[k + 1] = field.imag[grid]
     return out.cpu().numpy()
+
+
+def compare_truncations(acvf, shape, spacing, torus_shape):
+    """For a smooth embedding on ``torus_shape``: the torus that the plain wrap is predicted to
+    need (at least; its eigenvalue check may grow it further), both sizes over the grid's, and
+    max |c - r| / r(0) over the grid's lags (0: R of eq 10 is unchanged)."""
+    shape, spacing = normalize(shape, spacing)
+    spacing = tuple(float(d) for d in spacing)
+    plain = predict_torus(acvf, shape, spacing, truncation="none")
+    grid = int(np.prod(shape))
+    return dict(smooth=tuple(torus_shape), plain=plain,
+                smooth_ratio=int(np.prod(torus_shape)) / grid, plain_ratio=int(np.prod(plain)) / grid,
+                grid_lag_change=tapering.grid_lag_change(acvf, shape, spacing, torus_shape))

@@ -265,19 +265,20 @@ def _embedding(kernel, shape, spacing, info, **options):
 
 
 def _draw_circulant(kernel, shape, spacing, n_samples, rng, info, approximate, dtype,
-                    device=None):
+                    device=None, truncation="smooth"):
     from roughgp.gp.kernels import AdditiveKernel
 
     if isinstance(kernel, AdditiveKernel) and len(shape) == 2:
         # eq 22: G(x, y) = G_x(x) + G_y(y) with independent profiles, exact in O(N)
         ny, nx = shape
         gx = _draw_circulant(kernel.kernel_x, (nx,), spacing[1:], n_samples, rng, info,
-                             approximate, dtype, device)
+                             approximate, dtype, device, truncation)
         gy = _draw_circulant(kernel.kernel_y, (ny,), spacing[:1], n_samples, rng, info,
-                             approximate, dtype, device)
+                             approximate, dtype, device, truncation)
         info.details["additive"] = True
         return gx[:, None, :] + gy[:, :, None]
-    embedding = _embedding(kernel, shape, spacing, info, approximate=approximate)
+    embedding = _embedding(kernel, shape, spacing, info, approximate=approximate,
+                           truncation=truncation)
     info.torus_shape = embedding.torus_shape
     info.min_eigenvalue = embedding.min_eigenvalue
     info.clipped_fraction = max(info.clipped_fraction, embedding.clipped_fraction)
@@ -297,7 +298,8 @@ def choose_method(kernel, shape, spacing=1.0, n_samples=1):
     Cost model (seconds, reference machine): Cholesky ``N^3 / 3 + N^2 n`` flops at 2e10 flop/s,
     and infinite when the dense covariance does not fit in memory; circulant embedding
     ``(2 + ceil(n / 2)) * 5 M log2 M`` flops for the search and the FFTs on the torus of M
-    points that :func:`roughgp.sampling.circulant.predict_torus` expects (no FFT is taken to guess it).
+    points that :func:`roughgp.sampling.circulant.predict_torus` expects (a few FFTs of a coarse
+    copy of the grid; skipped when the dense covariance does not fit in memory).
     An additive kernel (eq 22) always goes to the O(N) circulant route.
     """
     from roughgp.gp.kernels import AdditiveKernel
@@ -309,6 +311,8 @@ def choose_method(kernel, shape, spacing=1.0, n_samples=1):
     dense_bytes = 2 * n_points**2 * _BYTES
     cholesky_cost = (math.inf if dense_bytes > 0.8 * _available_bytes()
                      else (n_points**3 / 3 + n_points**2 * n_samples) / _FLOPS_PER_SECOND)
+    if math.isinf(cholesky_cost):  # no need to predict the torus (a coarse search)
+        return "circulant", "circulant (the dense covariance of Cholesky is out of memory)"
     torus = circulant.predict_torus(acvf_of(kernel), shape, spacing)
     m = int(np.prod(torus))
     fft_flops = 5 * m * max(math.log2(m), 1)
@@ -321,7 +325,8 @@ def choose_method(kernel, shape, spacing=1.0, n_samples=1):
 
 
 def sample_grid(kernel, shape, *, spacing=1.0, n_samples=1, method="auto", seed=None,
-                rank=100, approximate=False, dtype=np.float64, device=None, return_info=False):
+                rank=100, approximate=False, dtype=np.float64, device=None, return_info=False,
+                truncation="smooth"):
     """Draw ``n_samples`` latent surfaces G ~ N(0, R) (eq 10) on a regular grid.
 
     Args:
@@ -335,6 +340,9 @@ def sample_grid(kernel, shape, *, spacing=1.0, n_samples=1, method="auto", seed=
         rank: Lanczos iterations for ``method="lanczos"``.
         approximate: circulant only: clip negative eigenvalues of a smaller torus (the clipped
             share of the variance is reported and warned about) instead of growing it.
+        truncation: circulant only: ``"smooth"`` tapers the ACVF beyond the grid's lags (the
+            grid covariance unchanged, a torus near (2n)^D), ``"none"`` wraps it plainly
+            (:func:`roughgp.sampling.circulant.embed`).
         dtype: of the result; ``numpy.float32`` also runs circulant FFTs in single precision
             (half the memory). Dense methods always compute in float64.
         device: None (numpy) or a torch device such as ``"cuda"`` (:mod:`roughgp.common.device`):
@@ -378,6 +386,6 @@ def sample_grid(kernel, shape, *, spacing=1.0, n_samples=1, method="auto", seed=
         samples = _draw_lanczos(kernel, shape, spacing, n_samples, rng, info, rank, device)
     else:
         samples = _draw_circulant(kernel, shape, spacing, n_samples, rng, info, approximate,
-                                  dtype, device)
+                                  dtype, device, truncation)
     samples = samples.astype(dtype, copy=False)  # dense methods compute in float64
     return (samples, info) if return_info else samples

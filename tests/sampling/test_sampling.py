@@ -30,7 +30,14 @@ from roughgp.gp.kernels import (
     RotatedExponentialKernel,
     SpectralMixtureKernel,
 )
-from roughgp.sampling import choose_method, circulant, grid_covariance, grid_sampler, sample_grid
+from roughgp.sampling import (
+    choose_method,
+    circulant,
+    grid_covariance,
+    grid_sampler,
+    sample_grid,
+    truncation,
+)
 
 PI = math.pi
 ALPHA = 1e-3  # family-wise false-alarm rate of each covariance test
@@ -281,9 +288,10 @@ def test_non_positive_definite_acvf_is_refused(method):
 
 def test_non_positive_definite_acvf_is_refused_on_the_first_torus():
     # not after growing the torus to max_points (minutes and GiBs: a CI timeout once)
-    with pytest.raises(circulant.NotEmbeddableError, match=r"torus \(400,\)") as excinfo:
-        circulant.embed(_box, (201,), spacing=0.05)
-    assert "no larger torus" in str(excinfo.value)
+    for truncation, first in (("none", 400), ("smooth", 405)):  # 2 (n - 1); 2 n - 1, fast
+        with pytest.raises(circulant.NotEmbeddableError, match=rf"torus \({first},\)") as excinfo:
+            circulant.embed(_box, (201,), spacing=0.05, truncation=truncation)
+        assert "no larger torus" in str(excinfo.value)
 
 
 # lambda_a = 100 instead of figure 2's 500 keeps the approximate torus small (about 1.2 M
@@ -293,10 +301,15 @@ APPROX_KERNEL = dict(variance=10.0, lengthscales=(100.0, 5.0), angle=PI / 6)
 
 
 def test_approximate_embedding_clips_little():
+    """The plain wrap (truncation="none") of this kernel needs clipping within 2^22 points; the
+    smooth truncation embeds it exactly there."""
     kernel = RotatedExponentialKernel(**APPROX_KERNEL)
     with pytest.raises(circulant.NotEmbeddableError):
-        circulant.embed(kernel.acvf, (20, 20), max_points=10**5)
-    emb = circulant.embed(kernel.acvf, (20, 20), approximate=True, max_points=2**22)
+        circulant.embed(kernel.acvf, (20, 20), max_points=10**5, truncation="none")
+    smooth = circulant.embed(kernel.acvf, (20, 20), max_points=2**22)
+    assert smooth.exact and smooth.truncation == "smooth" and smooth.min_eigenvalue >= -1e-10
+    emb = circulant.embed(kernel.acvf, (20, 20), approximate=True, max_points=2**22,
+                          truncation="none")
     assert 0 < emb.clipped_fraction < 1e-4
     assert not emb.exact
     assert emb.min_eigenvalue < 0
@@ -309,7 +322,8 @@ def test_sample_grid_approximate_warns_and_reports():
     kernel = RotatedExponentialKernel(**APPROX_KERNEL)
     with pytest.warns(UserWarning, match="clipped"):
         samples, info = sample_grid(kernel, (20, 20), n_samples=2, method="circulant",
-                                    approximate=True, seed=1, return_info=True)
+                                    approximate=True, seed=1, return_info=True,
+                                    truncation="none")
     assert samples.shape == (2, 20, 20) and np.all(np.isfinite(samples))
     assert 0 < info.clipped_fraction < 1e-4
     assert info.min_eigenvalue < 0 and info.torus_shape is not None
@@ -489,10 +503,10 @@ def test_long_profile_embedding_evaluates_the_acvf_in_large_blocks():
         calls.append(lags.shape)
         return np.exp(-np.abs(lags[..., 0]) / 50.0)
 
-    values = circulant._wrapped_acvf(acvf, (3_000_000,), (1.0,))
+    values = truncation.wrapped_acvf(acvf, (3_000_000,), (1.0,))
     assert len(calls) == 3 and values[0] == 1.0
     calls.clear()
-    circulant._wrapped_acvf(lambda lags: acvf(lags), (600, 4000), (1.0, 1.0))
+    truncation.wrapped_acvf(lambda lags: acvf(lags), (600, 4000), (1.0, 1.0))
     assert len(calls) == 3  # 262 rows of 4000 points per block
 
 

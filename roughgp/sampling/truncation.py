@@ -1,0 +1,221 @@
+r"""Smooth truncation of an ACVF beyond the lags of a grid, for circulant embedding (eq 10).
+
+Every pair of points of an ``(n_y, n_x)`` grid has a lag with ``|tau_a| <= (n_a - 1) d_a``. On a
+torus of ``m_a >= 2 n_a - 1`` points per axis these lags fall on distinct torus points, so the
+ACVF may be changed freely beyond them without changing the grid covariance R of eq 10. Here it
+is multiplied per axis by a C-infinity taper, 1 on the grid's lags and 0 at the torus' wrap
+(Bachmayr, Graham, Nguyen & Scheichl 2020, "Unified analysis of periodization-based sampling
+methods for Matern covariances"; cf. the cut-off embedding of Gneiting, Sevcikova, Percival,
+Schlather & Jiang 2006). The wrapped ACVF then has no jump at the wrap, and a margin of taper of
+a few correlation lengths beyond the grid's lags usually makes every eigenvalue >= 0; the
+eigenvalues are always checked. :func:`search_margins` finds that margin per axis.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import scipy.fft
+
+__all__ = ["NotEmbeddableError", "taper", "torus_of", "tapered_acvf", "tapered_eigenvalues",
+           "face_levels", "search_margins", "criterion", "wrapped_lags", "wrapped_acvf",
+           "grid_lag_change"]
+
+_BLOCK_POINTS = 2**20  # ACVF evaluated on about this many torus points at a time (peak memory)
+
+
+class NotEmbeddableError(ValueError):
+    """The ACVF's circulant embedding keeps negative eigenvalues within the allowed torus."""
+
+
+def criterion(eig, variance, rounding, tolerance, approximate, max_clipped_fraction):
+    """(done, min_rel, negative share) of eigenvalues: exact when the most negative one is
+    within the tolerance (or the FFT's rounding), approximate when the significant negative
+    ones hold less than ``max_clipped_fraction`` of the trace."""
+    min_rel = float(eig.min() / variance)
+    tolerance_here = max(tolerance, rounding)
+    significant = eig < -tolerance_here * variance
+    share = float(-eig[significant].sum() / eig.sum())
+    done = share < max_clipped_fraction if approximate else min_rel >= -tolerance_here
+    return done, min_rel, share
+
+
+def taper(lags, inner, outer):
+    """The C-infinity step of the smooth truncation: 1 for ``|lag| <= inner``, 0 for
+    ``|lag| >= outer``, ``f(1 - u) / (f(1 - u) + f(u))`` with ``f(u) = exp(-1 / u)`` between."""
+    lags = np.abs(np.asarray(lags, dtype=np.float64))
+    if outer <= inner:
+        return (lags <= inner).astype(np.float64)
+    u = np.clip((lags - inner) / (outer - inner), 0.0, 1.0)
+    with np.errstate(divide="ignore", over="ignore"):
+        a = np.where(u < 1, np.exp(-1.0 / np.where(u < 1, 1.0 - u, 1.0)), 0.0)
+        b = np.where(u > 0, np.exp(-1.0 / np.where(u > 0, u, 1.0)), 0.0)
+    return a / (a + b)
+
+
+def torus_of(shape, margins):
+    """The torus ``next_fast_len(2 n - 1 + 2 k)`` per axis: grid lags ``-(n-1) .. n-1`` each on
+    their own torus point, plus ``k`` points of taper beyond them on each side."""
+    return tuple(scipy.fft.next_fast_len(2 * n - 1 + 2 * int(k), real=False)
+                 for n, k in zip(shape, margins))
+
+
+def tapered_acvf(acvf, torus_shape, spacing, shape):
+    """The ACVF on the torus times the per-axis tapers (1 on the grid's lags, 0 at the wrap).
+    Evaluated on half the torus: an ACVF is even, ``c(-tau) = c(tau)``."""
+    values = np.empty(torus_shape, dtype=np.float64)
+    half = torus_shape[0] // 2 + 1
+    rest = int(np.prod(torus_shape[1:], dtype=np.int64))
+    block_rows = max(1, _BLOCK_POINTS // max(rest, 1))
+    for start in range(0, half, block_rows):
+        rows = slice(start, min(start + block_rows, half))
+        values[rows] = acvf(wrapped_lags(torus_shape, spacing, rows))
+    if not np.all(np.isfinite(values[:half])):
+        raise ValueError("kernel returned non-finite covariances on the embedding torus")
+    m0 = torus_shape[0]
+    source = values[1:(m0 - 1) // 2 + 1][::-1]
+    for axis in range(1, len(torus_shape)):
+        source = np.take(source, (-np.arange(torus_shape[axis])) % torus_shape[axis], axis=axis)
+    values[half:] = source[:m0 - half]
+    for axis, (m, n, d) in enumerate(zip(torus_shape, shape, spacing)):
+        j = np.arange(m)
+        w = taper(np.minimum(j, m - j) * d, (n - 1) * d, (m / 2) * d)
+        if np.all(w == 1.0):
+            continue
+        values *= w.reshape([-1 if a == axis else 1 for a in range(len(torus_shape))])
+    return values
+
+
+def tapered_eigenvalues(acvf, torus_shape, spacing, shape):
+    """Eigenvalues (the full torus, real) of the tapered embedding, r(0) and the rounding level
+    of :func:`_eigenvalues`. One real FFT (rfftn) of the torus; the other half of the spectrum
+    is its mirror image (the embedding is real and even)."""
+    base = tapered_acvf(acvf, torus_shape, spacing, shape)
+    variance = float(base.flat[0])
+    if variance <= 0:
+        raise ValueError(f"the ACVF at lag 0 must be > 0, got {variance}")
+    rounding = (np.finfo(np.float64).eps * max(math.log2(base.size), 1.0)
+                * float(np.abs(base).sum()) / variance)
+    half = scipy.fft.rfftn(base, workers=-1).real
+    del base
+    last = torus_shape[-1]
+    eig = np.empty(torus_shape, dtype=np.float64)
+    eig[..., :half.shape[-1]] = half
+    mirror = half
+    for axis in range(len(torus_shape) - 1):
+        mirror = np.take(mirror, (-np.arange(torus_shape[axis])) % torus_shape[axis], axis=axis)
+    eig[..., half.shape[-1]:] = mirror[..., 1:last - half.shape[-1] + 1][..., ::-1]
+    return eig, variance, rounding
+
+
+def face_levels(acvf, shape, spacing, torus_shape):
+    """Per axis, max |r| / r(0) on lags beyond the grid's along it, ``(n_a - 1) d_a <= |tau_a|
+    <= max(m_a / 2, n_a + 15) d_a`` (at most 64 of them), the other axes over all their lags on
+    the torus (a ridge may cross the face beyond the grid's lags; a band, not the face alone,
+    since an oscillating ACVF may vanish on the face itself)."""
+    zero = np.zeros((1, len(shape)))
+    levels = []
+    for axis in range(len(shape)):
+        grids = [np.where(np.arange(m) <= m // 2, np.arange(m), np.arange(m) - m) * d
+                 for m, d in zip(torus_shape, spacing)]
+        n, m = shape[axis], torus_shape[axis]
+        band = np.unique(np.linspace(n - 1, max(m // 2, n + 15), 64).round())
+        grids[axis] = np.concatenate([-band, band]) * spacing[axis]
+        mesh = np.meshgrid(*grids, indexing="ij")
+        points = np.stack(mesh[::-1], axis=-1).reshape(-1, len(shape))
+        levels.append(float(np.max(np.abs(acvf(points))) / acvf(zero)[0]))
+    return levels
+
+
+def search_margins(acvf, shape, spacing, *, tolerance, approximate, max_clipped_fraction,
+                    max_points, start=None, verify_only=False):
+    """Margins (points of taper per axis) whose tapered embedding passes :func:`criterion`.
+
+    From ``start`` (0 by default) the axes whose face level per point of taper is within 10x of
+    the worst are doubled (by 1.25 with ``verify_only``, the check on the full torus) until the
+    eigenvalues pass, then two bisections between the last failing and the passing margins
+    (none with ``verify_only``). Returns ``(margins, eig, variance, min_rel, share, tries)``.
+    """
+    step = [max(1, math.ceil(n / 16)) for n in shape]
+    tries = []
+
+    def check(margins):
+        torus = torus_of(shape, margins)
+        if np.prod(torus, dtype=np.float64) > max_points:
+            last = tries[-1] if tries else (torus, float("nan"), float("nan"))
+            raise NotEmbeddableError(
+                f"circulant embedding of shape {shape} (spacing {spacing}) keeps negative "
+                f"eigenvalues: most negative {last[1]:.3g} x r(0) (tolerance {tolerance:g}), "
+                f"{last[2]:.2g} of the trace, on the largest torus tried, {last[0]}; tried "
+                f"{[t for t, _, _ in tries]}; the next ({torus}) exceeds max_points = "
+                f"{max_points}. Use approximate=True to clip (the lost variance is reported), "
+                f"a smaller grid, or method='cholesky'.")
+        eig, variance, rounding = tapered_eigenvalues(acvf, torus, spacing, shape)
+        done, min_rel, share = criterion(eig, variance, rounding, tolerance, approximate,
+                                          max_clipped_fraction)
+        tries.append((torus, min_rel, share))
+        return done, (list(margins), eig, variance, min_rel, share), torus
+
+    margins, low = list(start) if start is not None else [0] * len(shape), None
+    while True:
+        done, found, torus = check(margins)
+        if done:
+            break
+        levels = face_levels(acvf, shape, spacing, torus)
+        if max(levels) <= tolerance:
+            raise NotEmbeddableError(
+                f"the ACVF is not positive definite on a grid of spacing {spacing}: on the "
+                f"torus {tries[-1][0]} its circulant embedding has eigenvalues down to "
+                f"{found[3]:.3g} x r(0) ({found[4]:.2g} of the trace) although the ACVF is "
+                f"already below {tolerance:g} x r(0) beyond the grid's lags, so no "
+                f"larger torus removes them. A valid kernel (eq 5: its PSD is >= 0) is needed.")
+        low = list(margins)
+        badness = [lv / max(k, 1) for lv, k in zip(levels, margins)]  # per grid point: scale-free
+        for a, b in enumerate(badness):
+            if b >= 0.1 * max(badness):
+                grown = math.ceil(1.25 * margins[a]) if verify_only else 2 * margins[a]
+                margins[a] = max(grown, step[a])
+    high = list(margins)
+    for _ in range(0 if verify_only or low is None else 2):
+        middle = [(h + lo) // 2 for h, lo in zip(high, low)]
+        if torus_of(shape, middle) == torus_of(shape, high):
+            break
+        done, result, _ = check(middle)
+        if done:
+            high, found = middle, result
+        else:
+            low = middle
+    return (*found, tuple((t, m) for t, m, _ in tries))
+
+
+def wrapped_lags(torus_shape, spacing, rows=slice(None)):
+    """Lags of the torus points in (x, y) order, wrapped to [-m/2, m/2) per axis."""
+    axes = [np.where(j <= m // 2, j, j - m) * d
+            for j, m, d in ((np.arange(m), m, d) for m, d in zip(torus_shape, spacing))]
+    axes[0] = axes[0][rows]
+    mesh = np.meshgrid(*axes, indexing="ij")
+    return np.stack(mesh[::-1], axis=-1)
+
+
+def wrapped_acvf(acvf, torus_shape, spacing):
+    values = np.empty(torus_shape, dtype=np.float64)
+    block_rows = max(1, _BLOCK_POINTS // int(np.prod(torus_shape[1:], dtype=np.int64)))
+    for start in range(0, torus_shape[0], block_rows):
+        rows = slice(start, min(start + block_rows, torus_shape[0]))
+        values[rows] = acvf(wrapped_lags(torus_shape, spacing, rows))
+    if not np.all(np.isfinite(values)):
+        raise ValueError("kernel returned non-finite covariances on the embedding torus")
+    return values
+
+
+
+
+def grid_lag_change(acvf, shape, spacing, torus_shape):
+    """max |c(tau) - r(tau)| / r(0) over every lag two grid points have, where c is the tapered
+    ACVF on ``torus_shape``: 0 when the embedding leaves R of eq 10 unchanged."""
+    base = tapered_acvf(acvf, torus_shape, spacing, shape)
+    index = np.ix_(*[np.arange(-(n - 1), n) % m for n, m in zip(shape, torus_shape)])
+    lags = np.stack(np.meshgrid(*[np.arange(-(n - 1), n) * d for n, d in zip(shape, spacing)],
+                                indexing="ij")[::-1], axis=-1)
+    return float(np.max(np.abs(base[index] - acvf(lags))) / base.flat[0])

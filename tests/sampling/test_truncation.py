@@ -1,0 +1,62 @@
+"""Tests of roughgp.sampling.truncation: the smooth truncation of the ACVF beyond the grid's lags
+leaves the grid covariance R of eq 10 (eq 18's ACVF here) unchanged, and draws from it have R as
+their covariance, as draws from the plain wrap do (Jawaid & Seewig, section 2.2)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from roughgp.gp.kernels import MaternKernel, RotatedExponentialKernel
+from roughgp.sampling import circulant, grid_covariance, truncation
+from tests.sampling.test_sampling import N_DRAWS, _bonferroni_threshold, _max_z
+
+# eq 18 long against the grid (lambda_a = 8 on 6 x 7 points), unequal spacing (dy, dx)
+KERNEL = dict(variance=2.0, lengthscales=(8.0, 2.0), angle=math.pi / 6)
+SHAPE, SPACING = (6, 7), (1.0, 0.8)
+
+
+def test_taper_is_one_on_the_grid_lags_and_zero_at_the_wrap():
+    lags = np.linspace(0, 10, 101)
+    w = truncation.taper(lags, 4.0, 9.0)
+    assert np.all(w[lags <= 4.0] == 1.0) and np.all(w[lags >= 9.0] == 0.0)
+    assert np.all(np.diff(w) <= 0) and 0 < w[65] < 1
+
+
+@pytest.mark.parametrize("shape, spacing", [(SHAPE, SPACING), ((512, 512), (1.0, 1.0))])
+def test_smooth_embedding_leaves_the_grid_covariance_unchanged(shape, spacing):
+    kernel = RotatedExponentialKernel(**KERNEL) if shape == SHAPE else \
+        RotatedExponentialKernel(10.0, (500.0, 5.0), math.pi / 6)
+    torus = (40, 44) if shape == SHAPE else (1100, 1300)
+    assert truncation.grid_lag_change(kernel.acvf, shape, spacing, torus) == 0.0
+
+
+@pytest.mark.parametrize("truncation_kind", ["smooth", "none"])
+def test_draws_of_either_embedding_have_the_covariance_of_eq_18(truncation_kind):
+    kernel = RotatedExponentialKernel(**KERNEL)
+    emb = circulant.embed(kernel.acvf, SHAPE, SPACING, truncation=truncation_kind)
+    assert emb.exact and emb.truncation == truncation_kind and emb.min_eigenvalue >= -1e-10
+    samples = circulant.draw(emb, N_DRAWS, np.random.default_rng(2006))
+    threshold = _bonferroni_threshold(int(np.prod(SHAPE)))
+    assert _max_z(samples, grid_covariance(kernel, SHAPE, SPACING)) < threshold
+    wrong = RotatedExponentialKernel(2.0, (16.0, 4.0), math.pi / 6)
+    assert _max_z(samples, grid_covariance(wrong, SHAPE, SPACING)) > threshold  # power
+
+
+def test_smooth_embedding_is_smaller_than_the_plain_wrap():
+    kernel = RotatedExponentialKernel(**KERNEL)
+    smooth = circulant.embed(kernel.acvf, SHAPE, SPACING)
+    plain = circulant.embed(kernel.acvf, SHAPE, SPACING, truncation="none")
+    assert np.prod(smooth.torus_shape) < np.prod(plain.torus_shape)
+    assert all(m >= 2 * n - 1 for m, n in zip(smooth.torus_shape, SHAPE))
+
+
+def test_profile_and_bad_truncation():
+    kernel = MaternKernel(0.5, dim=1, lengthscale=30.0)
+    emb = circulant.embed(kernel.acvf, (50,))
+    assert emb.exact and emb.torus_shape[0] >= 99
+    assert truncation.grid_lag_change(kernel.acvf, (50,), (1.0,), emb.torus_shape) == 0.0
+    with pytest.raises(ValueError, match="truncation"):
+        circulant.embed(kernel.acvf, (50,), truncation="taper")
