@@ -61,5 +61,7 @@ def test_texture_reads_the_model():
     assert tex.predicted_str == pytest.approx(2.0 / 15.0)
     assert tex.expected_sq < math.sqrt(11.0)
     assert np.all(np.abs(tex.sq - tex.expected_sq) <= 4 * tex.sq_spread)
-    assert np.all(np.abs(tex.std - 30.0) <= 5.0)
+    # Std scatters by about 2 deg from draw to draw around about 31.5 deg on this small grid
+    # (16 seeds: sd 1.8 and 2.3 deg, before and after the embedding's truncation)
+    assert np.all(np.abs(tex.std - 30.0) <= 7.0) and abs(np.mean(tex.std) - 30.0) <= 4.0
     assert tex.angles.shape == tex.power.shape

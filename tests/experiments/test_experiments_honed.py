@@ -38,10 +38,16 @@ def test_the_draw_is_cached_read_only_and_seeded(small):
 
 
 def test_a_ground_surface_has_one_lobe_not_two():
-    z = ground(SHAPE, variance=45.0, lengthscales=(60.0, 4.0), angle=math.pi / 4, seed=2)
-    c = honed.crosshatch_lobes(z)
-    assert abs(c.offsets[1]) <= 3 and c.ratios[1] > 10
-    assert c.lobe_powers[0] < 0.1 * c.lobe_powers[1]          # nothing at -phi
+    # One 96 x 96 draw's power at -phi scatters from seed to seed (0.5 % to 15 % of the lobe at
+    # +phi over 12 seeds, with the circulant embedding of before and after its truncation): judge
+    # six draws, not one.
+    shares = []
+    for seed in range(6):
+        z = ground(SHAPE, variance=45.0, lengthscales=(60.0, 4.0), angle=math.pi / 4, seed=seed)
+        c = honed.crosshatch_lobes(z)
+        assert abs(c.offsets[1]) <= 3 and c.ratios[1] > 10
+        shares.append(c.lobe_powers[0] / c.lobe_powers[1])
+    assert np.median(shares) < 0.05 and max(shares) < 0.25      # nothing at -phi
 
 
 def test_finishing_sweep_is_paired_and_moves_spk_up():
