@@ -31,7 +31,7 @@ from roughgp.models import surfaces
 
 __all__ = ["SEED", "NOISE_VARIANCE", "LOBE_HALF_WIDTH", "QUIET_WIDTH", "Crosshatch", "Plateau",
            "Figure3", "FinishingSweep", "figure3_stack", "crosshatch_lobes", "plateau",
-           "figure3", "finishing_sweep"]
+           "figure3", "CrosshatchSeeds", "crosshatch_over_seeds", "finishing_sweep"]
 
 #: The seed of figure 3's draw (the chapter's and the ledger's).
 SEED = 3
@@ -182,6 +182,41 @@ def figure3(seed=SEED, *, noise_variance=NOISE_VARIANCE, shape=surfaces.FIGURE_3
     z = stack.min(axis=(0, 1))
     return Figure3(int(seed), float(noise_variance), stack, z,
                    crosshatch_lobes(z, phi=steps[0].angle), plateau(z))
+
+
+@dataclasses.dataclass(frozen=True)
+class CrosshatchSeeds:
+    """The cross-hatch of figure 3's model over several draws.
+
+    One 512 x 512 draw holds few of step 1's grooves (lambda_a = 500): its lobe for one family
+    can come out faint, so the claim "two lobes at +-phi" is judged over draws, not on one.
+
+    Attributes:
+        seeds: the seeds drawn (figure 3's own first).
+        offsets: ``(len(seeds), 2)`` lobe direction minus -phi, +phi, in degrees.
+        ratios: ``(len(seeds), 2)`` each lobe's power over the power at 0 and 90 degrees.
+    """
+
+    seeds: tuple
+    offsets: np.ndarray
+    ratios: np.ndarray
+
+    @property
+    def median_ratios(self) -> tuple:
+        """The median ratio of the lobe at -phi and of the lobe at +phi."""
+        return tuple(float(r) for r in np.median(self.ratios, axis=0))
+
+
+def crosshatch_over_seeds(n_seeds, *, seed=SEED, noise_variance=NOISE_VARIANCE,
+                          shape=surfaces.FIGURE_3_SHAPE,
+                          steps=surfaces.FIGURE_3) -> CrosshatchSeeds:
+    """:func:`crosshatch_lobes` of figure 3's surface (eq 19, 20) drawn from seeds
+    ``seed, seed + 1, ..., seed + n_seeds - 1``."""
+    seeds = tuple(range(int(seed), int(seed) + int(n_seeds)))
+    lobes = [figure3(s, noise_variance=noise_variance, shape=shape, steps=steps).crosshatch
+             for s in seeds]
+    return CrosshatchSeeds(seeds, np.array([c.offsets for c in lobes]),
+                           np.array([c.ratios for c in lobes]))
 
 
 @dataclasses.dataclass(frozen=True)

@@ -108,20 +108,23 @@ def check_error_comparable(full):
 
 def check_crosshatch(full):
     """Figure 3: the minimum of ground surfaces at +-phi is cross-hatched: two lobes of the
-    angular spectrum at +-45 deg."""
+    angular spectrum at +-45 deg, in the median over seeded draws (one draw can show one family
+    faint: step 1's lambda_a = 500 leaves few grooves on 512 points)."""
     from roughgp.experiments import honed
     result = honed.figure3()
+    seeds = honed.crosshatch_over_seeds(20 if full else 8)
     c = result.crosshatch
-    holds = all(abs(d) <= 3 for d in c.offsets) and all(r > 10 for r in c.ratios)
+    holds = bool(np.all(np.abs(seeds.offsets) <= 3) and min(seeds.median_ratios) > 10)
     fig, axes = row_of_axes(2, width=4.4, height=3.6)
     axes[0].imshow(result.surface, origin="lower", cmap="viridis")
     axes[0].set(title="figure 3 (512 x 512)", xlabel="x", ylabel="y")
     axes[0].grid(False)
     axes[1].semilogy(c.angles, c.power / c.power.max())
     axes[1].set(xlabel="lay direction (deg)", ylabel="angular power (relative)")
-    return Check("lobes at " + ", ".join(f"{a:.1f} deg ({r:.0f}x the power at 0/90 deg)"
-                                         for a, r in zip(c.lobe_angles, c.ratios)),
-                 bool(holds), fig)
+    return Check(f"lobes at -45 and +45 deg on every one of {len(seeds.seeds)} draws; median "
+                 + " and ".join(f"{r:.0f}x" for r in seeds.median_ratios)
+                 + " the power at 0/90 deg (weakest lobe of a draw "
+                 + f"{seeds.ratios.min():.1f}x)", holds, fig)
 
 
 def check_plateau(full):

@@ -55,3 +55,12 @@ def test_finishing_sweep_is_paired_and_moves_spk_up():
     assert sweep.seeds == (101, 201)
     assert sweep.values["Spk"].shape == (2, 2)
     assert np.all(sweep.change("Spk") > 0)
+
+
+def test_the_crosshatch_over_seeds_starts_with_figure_3s_draw():
+    steps = (GrooveParameters(variance=45.0, lengthscales=(60.0, 4.0), angle=math.pi / 4),)
+    seeds = honed.crosshatch_over_seeds(3, seed=5, shape=SHAPE, steps=steps)
+    first = honed.figure3(5, shape=SHAPE, steps=steps).crosshatch
+    assert seeds.seeds == (5, 6, 7) and seeds.ratios.shape == seeds.offsets.shape == (3, 2)
+    np.testing.assert_array_equal(seeds.ratios[0], first.ratios)
+    assert seeds.median_ratios == tuple(np.median(seeds.ratios, axis=0))
