@@ -36,8 +36,8 @@ from roughgp.experiments.gap_filling import interpolate_baseline
 from roughgp.metrology.measurement import Measurement, read_measurement
 
 __all__ = ["DATA", "LAND_FILE", "PROFILE_FILE", "LAND_L_FILTER", "LandResult", "ProfileResult",
-           "CrossValidation", "CV_FILES", "lay_deviation_deg", "land_fit", "land_check", "bullet_land", "stylus_profile", "cross_validated_fill",
-           "centre_crop", "hide_discs"]
+           "CrossValidation", "CV_FILES", "lay_deviation_deg", "land_fit", "land_check",
+           "bullet_land", "stylus_profile", "cross_validated_fill", "centre_crop", "hide_discs"]
 
 DATA = Path(__file__).resolve().parents[2] / "data"
 LAND_FILE = "sample-land.x3p"

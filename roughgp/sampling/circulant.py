@@ -46,7 +46,6 @@ TRUNCATIONS = ("smooth", "none")
 _COARSE_POINTS = 2**20  # the coarse search's torus holds at most about this many points
 
 
-
 @dataclass(frozen=True)
 class Embedding:
     """A non-negative (or explicitly clipped) circulant embedding of a grid covariance.
@@ -101,8 +100,7 @@ def _eigenvalues(acvf, torus_shape, spacing):
     if variance <= 0:
         raise ValueError(f"the ACVF at lag 0 must be > 0, got {variance}")
     outer = _outer_level(base)
-    rounding = (np.finfo(np.float64).eps * max(math.log2(base.size), 1.0)
-                * float(np.abs(base).sum()) / variance)
+    rounding = tapering.rounding_level(base, variance)
     eig = scipy.fft.fftn(base, workers=-1, overwrite_x=True).real
     return eig, variance, outer, rounding
 
@@ -181,13 +179,9 @@ def _embed_wrapped(acvf, shape, spacing=1.0, *, tolerance=1e-10, approximate=Fal
     while True:
         torus_shape = tuple(torus)
         eig, variance, outer_level, rounding = _eigenvalues(acvf, torus_shape, spacing)
-        min_rel = float(eig.min() / variance)
-        tolerance_here = max(tolerance, rounding)
-        significant = eig < -tolerance_here * variance  # smaller ones are rounding, both modes
-        negative_share = float(-eig[significant].sum() / eig.sum())
+        done, min_rel, negative_share = tapering.criterion(
+            eig, variance, rounding, tolerance, approximate, max_clipped_fraction)
         tries.append((torus_shape, min_rel))
-        done = ((negative_share < max_clipped_fraction) if approximate
-                else (min_rel >= -tolerance_here))
         if done:
             clipped = negative_share if approximate else 0.0
             scale = np.sqrt(np.clip(eig, 0.0, None) / eig.size)
@@ -210,7 +204,6 @@ def _embed_wrapped(acvf, shape, spacing=1.0, *, tolerance=1e-10, approximate=Fal
                 f"{torus_shape}; tried {[t for t, _ in tries]}; the next ({tuple(torus)}) "
                 f"exceeds max_points = {max_points}. Use approximate=True to clip (the lost "
                 f"variance is reported), a smaller grid, or method='cholesky'.")
-
 
 
 def predict_torus(acvf, shape, spacing, *, boundary_level=1e-5, max_points=2**27,

@@ -20,7 +20,7 @@ import scipy.fft
 
 __all__ = ["NotEmbeddableError", "taper", "torus_of", "tapered_acvf", "tapered_eigenvalues",
            "face_levels", "search_margins", "criterion", "wrapped_lags", "wrapped_acvf",
-           "grid_lag_change"]
+           "rounding_level", "grid_lag_change"]
 
 _BLOCK_POINTS = 2**20  # ACVF evaluated on about this many torus points at a time (peak memory)
 
@@ -66,13 +66,7 @@ def tapered_acvf(acvf, torus_shape, spacing, shape):
     Evaluated on half the torus: an ACVF is even, ``c(-tau) = c(tau)``."""
     values = np.empty(torus_shape, dtype=np.float64)
     half = torus_shape[0] // 2 + 1
-    rest = int(np.prod(torus_shape[1:], dtype=np.int64))
-    block_rows = max(1, _BLOCK_POINTS // max(rest, 1))
-    for start in range(0, half, block_rows):
-        rows = slice(start, min(start + block_rows, half))
-        values[rows] = acvf(wrapped_lags(torus_shape, spacing, rows))
-    if not np.all(np.isfinite(values[:half])):
-        raise ValueError("kernel returned non-finite covariances on the embedding torus")
+    _fill_rows(values, acvf, spacing, half)
     m0 = torus_shape[0]
     source = values[1:(m0 - 1) // 2 + 1][::-1]
     for axis in range(1, len(torus_shape)):
@@ -95,8 +89,7 @@ def tapered_eigenvalues(acvf, torus_shape, spacing, shape):
     variance = float(base.flat[0])
     if variance <= 0:
         raise ValueError(f"the ACVF at lag 0 must be > 0, got {variance}")
-    rounding = (np.finfo(np.float64).eps * max(math.log2(base.size), 1.0)
-                * float(np.abs(base).sum()) / variance)
+    rounding = rounding_level(base, variance)
     half = scipy.fft.rfftn(base, workers=-1).real
     del base
     last = torus_shape[-1]
@@ -198,17 +191,31 @@ def wrapped_lags(torus_shape, spacing, rows=slice(None)):
     return np.stack(mesh[::-1], axis=-1)
 
 
-def wrapped_acvf(acvf, torus_shape, spacing):
-    values = np.empty(torus_shape, dtype=np.float64)
-    block_rows = max(1, _BLOCK_POINTS // int(np.prod(torus_shape[1:], dtype=np.int64)))
-    for start in range(0, torus_shape[0], block_rows):
-        rows = slice(start, min(start + block_rows, torus_shape[0]))
+def _fill_rows(values, acvf, spacing, n_rows):
+    """``values[:n_rows]`` = the ACVF at the wrapped lags of those rows of the torus
+    ``values.shape``, evaluated a block of about ``_BLOCK_POINTS`` points at a time."""
+    torus_shape = values.shape
+    block_rows = max(1, _BLOCK_POINTS // max(int(np.prod(torus_shape[1:], dtype=np.int64)), 1))
+    for start in range(0, n_rows, block_rows):
+        rows = slice(start, min(start + block_rows, n_rows))
         values[rows] = acvf(wrapped_lags(torus_shape, spacing, rows))
-    if not np.all(np.isfinite(values)):
+    if not np.all(np.isfinite(values[:n_rows])):
         raise ValueError("kernel returned non-finite covariances on the embedding torus")
+
+
+def wrapped_acvf(acvf, torus_shape, spacing):
+    """The ACVF at every wrapped lag of the torus (the plain wrap, no taper)."""
+    values = np.empty(torus_shape, dtype=np.float64)
+    _fill_rows(values, acvf, spacing, torus_shape[0])
     return values
 
 
+def rounding_level(base, variance):
+    """The rounding level of an FFT of the torus ACVF ``base``, relative to r(0): each output
+    is computed to about ``eps * log2(M) * sum|c|``, so a negative eigenvalue of that size is
+    rounding, not indefiniteness (it matters on large tori of slowly decaying ACVFs)."""
+    return (np.finfo(np.float64).eps * max(math.log2(base.size), 1.0)
+            * float(np.abs(base).sum()) / variance)
 
 
 def grid_lag_change(acvf, shape, spacing, torus_shape):
