@@ -29,11 +29,11 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg
-from threadpoolctl import threadpool_limits
 
 from roughgp.beyond.gap_filling import missing_map
 from roughgp.common.checks import check_integer, check_nonnegative
 from roughgp.common.grid import normalize
+from roughgp.common.threads import one_blas_thread
 from roughgp.sampling.grid_sampler import acvf_of
 
 __all__ = ["LocalFill", "fill_gaps_locally"]
@@ -108,7 +108,7 @@ def fill_gaps_locally(z, kernel, *, noise_variance, spacing=1.0, mask=None, tile
     sd = np.zeros(shape)
     iy, ix = np.indices(shape)
     tiles, largest = 0, 0
-    with threadpool_limits(limits=1, user_api="blas"):
+    with one_blas_thread():
         for r0 in range(0, ny, tile):
             for c0 in range(0, nx, tile):
                 core = np.s_[r0:r0 + tile, c0:c0 + tile]

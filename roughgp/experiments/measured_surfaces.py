@@ -37,7 +37,8 @@ from roughgp.metrology.measurement import Measurement, read_measurement
 
 __all__ = ["DATA", "LAND_FILE", "PROFILE_FILE", "LAND_L_FILTER", "LandResult", "ProfileResult",
            "CrossValidation", "CV_FILES", "lay_deviation_deg", "land_fit", "land_check",
-           "bullet_land", "stylus_profile", "cross_validated_fill", "centre_crop", "hide_discs"]
+           "bullet_land", "stylus_profile", "cross_validated_fill", "centre_crop", "hide_discs",
+           "fill_verdicts", "TIE"]
 
 DATA = Path(__file__).resolve().parents[2] / "data"
 LAND_FILE = "sample-land.x3p"
@@ -45,6 +46,7 @@ PROFILE_FILE = "dektak-1.csv"
 LAND_L_FILTER = 250.0  #: um: the land's waviness cut-off (a tenth of its width)
 #: the chapter's cross-validated files and their F-operators
 CV_FILES = {"sample-land.x3p": "cylinder", "sur-2.sur": "plane", "opd-1.opd": "plane"}
+TIE = 0.05  #: hidden-point RMSEs within 5 % of each other are a tie
 
 
 @dataclasses.dataclass(frozen=True)
@@ -85,6 +87,8 @@ class CrossValidation:
         sd: the GP's predictive sd of a new measurement there, ``sqrt(sd^2 + sigma^2)``.
         rmse: per method; coverage: share of the hidden points within ``2 sd`` of the GP mean.
         seconds: per method (the GP: fit and fill).
+        log_likelihood: the block composite log-likelihood of the GP's fit (eq 18 or its
+            Matérn variant; comparable between the two on one file and seed: the same blocks).
     """
 
     file: str
@@ -95,6 +99,7 @@ class CrossValidation:
     rmse: dict
     coverage: float
     seconds: dict
+    log_likelihood: float
 
 
 def _read(name):
@@ -202,4 +207,30 @@ def cross_validated_fill(name=LAND_FILE, *, share=0.02, seed=0, form="cylinder",
     sd = np.sqrt(gp.sd[hidden] ** 2 + gp.noise_variance)
     rmse = {k: float(np.sqrt(np.mean((v - truth) ** 2))) for k, v in estimates.items()}
     coverage = float(np.mean(np.abs(estimates["GP"] - truth) <= 2 * sd))
-    return CrossValidation(name, hidden, truth, estimates, sd, rmse, coverage, seconds)
+    return CrossValidation(name, hidden, truth, estimates, sd, rmse, coverage, seconds,
+                           float(gp.fit.log_likelihood))
+
+
+def fill_verdicts(cvs, smooth_land=None) -> dict:
+    """The data's verdicts on the cross-validation of :data:`CV_FILES` (``cvs``: file name ->
+    :class:`CrossValidation` with eq 18), as the chapter states them and the ledger's
+    ``measured-fill`` row judges them: statement -> bool. ``smooth_land``: the land's
+    cross-validation with the Matérn variant (``nu=2.5``), which adds its verdict."""
+    land, sur, opd = cvs[LAND_FILE], cvs["sur-2.sur"], cvs["opd-1.opd"]
+    verdicts = {
+        "the GP beats cubic interpolation on every file":
+            all(cv.rmse["GP"] < cv.rmse["cubic"] for cv in cvs.values()),
+        "the GP beats linear interpolation on opd-1 by more than a tie":
+            opd.rmse["GP"] < (1 - TIE) * opd.rmse["linear"],
+        "the GP ties with linear interpolation on the land":
+            abs(land.rmse["GP"] / land.rmse["linear"] - 1) < TIE,
+        "linear interpolation beats the GP on sur-2":
+            sur.rmse["linear"] < (1 - TIE) * sur.rmse["GP"],
+        "the +-2 sd band is calibrated on opd-1 (95 +- 3 %)": abs(opd.coverage - 0.95) < 0.03,
+        "the band is too narrow on the land and sur-2 (< 94 %)":
+            land.coverage < 0.94 and sur.coverage < 0.94,
+    }
+    if smooth_land is not None:
+        verdicts["the Matern variant (nu 2.5) beats linear interpolation on the land"] = \
+            smooth_land.rmse["GP"] < (1 - TIE) * smooth_land.rmse["linear"]
+    return verdicts

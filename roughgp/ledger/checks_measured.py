@@ -76,11 +76,7 @@ def check_measured_fill(full):
     if full:
         cvs = {name: ms.cross_validated_fill(name, form=form, seed=0)
                for name, form in ms.CV_FILES.items()}
-        land, sur, opd = cvs["sample-land.x3p"], cvs["sur-2.sur"], cvs["opd-1.opd"]
-        holds = (all(_score(cv)[0] for cv in cvs.values()) and _score(land)[1]
-                 and _score(opd)[1] and not _score(sur)[1]
-                 and abs(opd.coverage - 0.95) < 0.03 and land.coverage > 0.97
-                 and sur.coverage > 0.97)
+        holds = all(ms.fill_verdicts(cvs).values())
     else:
         name, size = QUICK_CV
         cvs = {f"{name} ({size} x {size})": ms.cross_validated_fill(

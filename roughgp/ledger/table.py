@@ -236,9 +236,10 @@ CLAIM_TABLE = [
                                    "three files",
          verdict="beyond the paper",
          why="2 % of the measured points hidden in discs, eq 18 fitted without them; on the "
-             "whole files (full) the GP beats cubic everywhere and linear on the land and "
-             "opd-1 but not on the smooth sur-2.sur, and its band is calibrated on opd-1 and "
-             "too wide (> 97 %) on the other two",
+             "whole files (full, experiments.measured_surfaces.fill_verdicts) the GP beats "
+             "cubic everywhere and linear on opd-1, ties with linear on the land and loses to "
+             "it on the smooth sur-2.sur; its band is calibrated on opd-1 and too narrow "
+             "(about 90 %) on the other two",
          chapter="measured_surfaces", check=check_measured_fill),
     dict(key="scale-device", where="Beyond the paper (scale)",
          statement="Sampling, fitting and gap filling run on a GPU through torch (device=) "

@@ -102,18 +102,21 @@ def tapered_eigenvalues(acvf, torus_shape, spacing, shape):
     return eig, variance, rounding
 
 
-def face_levels(acvf, shape, spacing, torus_shape):
+def face_levels(acvf, shape, spacing, torus_shape, *, outer=False):
     """Per axis, max |r| / r(0) on lags beyond the grid's along it, ``(n_a - 1) d_a <= |tau_a|
     <= max(m_a / 2, n_a + 15) d_a`` (at most 64 of them), the other axes over all their lags on
     the torus (a ridge may cross the face beyond the grid's lags; a band, not the face alone,
-    since an oscillating ACVF may vanish on the face itself)."""
+    since an oscillating ACVF may vanish on the face itself). ``outer=True``: on the outer
+    quarter of the torus instead, ``m_a / 4 <= |tau_a| / d_a <= m_a / 2``: what is left of the
+    ACVF where the taper ends."""
     zero = np.zeros((1, len(shape)))
     levels = []
     for axis in range(len(shape)):
         grids = [np.where(np.arange(m) <= m // 2, np.arange(m), np.arange(m) - m) * d
                  for m, d in zip(torus_shape, spacing)]
         n, m = shape[axis], torus_shape[axis]
-        band = np.unique(np.linspace(n - 1, max(m // 2, n + 15), 64).round())
+        band = np.unique((np.linspace(m // 4, m // 2, 64) if outer else
+                          np.linspace(n - 1, max(m // 2, n + 15), 64)).round())
         grids[axis] = np.concatenate([-band, band]) * spacing[axis]
         mesh = np.meshgrid(*grids, indexing="ij")
         points = np.stack(mesh[::-1], axis=-1).reshape(-1, len(shape))
@@ -129,6 +132,13 @@ def search_margins(acvf, shape, spacing, *, tolerance, approximate, max_clipped_
     the worst are doubled (by 1.25 with ``verify_only``, the check on the full torus) until the
     eigenvalues pass, then two bisections between the last failing and the passing margins
     (none with ``verify_only``). Returns ``(margins, eig, variance, min_rel, share, tries)``.
+
+    The search stops early with :class:`NotEmbeddableError` when growing cannot help: when the
+    ACVF is below ``tolerance`` beyond the grid's lags (:func:`face_levels`), or when it is
+    below ``tolerance`` on the torus' outer quarter and the last :data:`STAGNANT_TRIES`
+    doublings changed neither the most negative eigenvalue nor the negative share by more
+    than :data:`STAGNANT_CHANGE` (the eigenvalues have converged to the ACVF's own spectrum,
+    which is negative somewhere: it is not a valid covariance at this spacing).
     """
     step = [max(1, math.ceil(n / 16)) for n in shape]
     tries = []
@@ -163,6 +173,15 @@ def search_margins(acvf, shape, spacing, *, tolerance, approximate, max_clipped_
                 f"{found[3]:.3g} x r(0) ({found[4]:.2g} of the trace) although the ACVF is "
                 f"already below {tolerance:g} x r(0) beyond the grid's lags, so no "
                 f"larger torus removes them. A valid kernel (eq 5: its PSD is >= 0) is needed.")
+        if not verify_only and _stagnant(tries) and \
+                max(face_levels(acvf, shape, spacing, torus, outer=True)) <= tolerance:
+            first = tries[-STAGNANT_TRIES - 1]
+            raise NotEmbeddableError(
+                f"the ACVF is not positive definite on a grid of spacing {spacing}: from the "
+                f"torus {first[0]} to {tries[-1][0]} its circulant embedding kept eigenvalues "
+                f"down to {found[3]:.3g} x r(0) ({found[4]:.2g} of the trace) although the ACVF "
+                f"is below {tolerance:g} x r(0) where the taper ends, so no larger torus "
+                f"removes them. A valid kernel (eq 5: its PSD is >= 0) is needed.")
         low = list(margins)
         badness = [lv / max(k, 1) for lv, k in zip(levels, margins)]  # per grid point: scale-free
         for a, b in enumerate(badness):
@@ -182,11 +201,27 @@ def search_margins(acvf, shape, spacing, *, tolerance, approximate, max_clipped_
     return (*found, tuple((t, m) for t, m, _ in tries))
 
 
+STAGNANT_TRIES = 3      # doublings without change after which a larger torus is not tried
+STAGNANT_CHANGE = 0.01  # relative change of the most negative eigenvalue and negative share
+
+
+def _stagnant(tries):
+    """True when the last :data:`STAGNANT_TRIES` tries changed neither the most negative
+    eigenvalue nor the negative share by more than :data:`STAGNANT_CHANGE` (relative)."""
+    if len(tries) <= STAGNANT_TRIES:
+        return False
+    recent = tries[-STAGNANT_TRIES - 1:]
+    return all(abs(b[k] - a[k]) <= STAGNANT_CHANGE * abs(a[k])
+               for a, b in zip(recent, recent[1:]) for k in (1, 2))
+
+
 def wrapped_lags(torus_shape, spacing, rows=slice(None)):
-    """Lags of the torus points in (x, y) order, wrapped to [-m/2, m/2) per axis."""
+    """Lags of the torus points in (x, y) order, wrapped to [-m/2, m/2) per axis; ``rows``
+    (a slice) of the first axis only (only those are computed)."""
+    first = np.arange(*rows.indices(torus_shape[0]))
     axes = [np.where(j <= m // 2, j, j - m) * d
-            for j, m, d in ((np.arange(m), m, d) for m, d in zip(torus_shape, spacing))]
-    axes[0] = axes[0][rows]
+            for j, m, d in zip([first] + [np.arange(m) for m in torus_shape[1:]], torus_shape,
+                               spacing)]
     mesh = np.meshgrid(*axes, indexing="ij")
     return np.stack(mesh[::-1], axis=-1)
 

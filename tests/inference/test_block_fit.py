@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from roughgp.inference.block_fit import fit_ground_to_valid_points
+from roughgp.inference.block_fit import BlockLikelihood, fit_ground_to_valid_points
 from roughgp.models import surfaces
 
 TRUTH = surfaces.GrooveParameters(variance=4.0, lengthscales=(12.0, 3.0), angle=-0.6)
@@ -96,3 +96,21 @@ def test_rejects_maps_without_usable_blocks():
         fit_ground_to_valid_points(np.ones((48, 48)), block=12)
     with pytest.raises(ValueError, match="2-D height map"):
         fit_ground_to_valid_points(np.ones(48))
+
+
+@pytest.mark.parametrize("nu", [0.5, 2.5])
+def test_the_gradient_is_that_of_the_likelihood(nu):
+    # central differences of the value itself (the optimiser's gradient must agree with them)
+    z = _measured(seed=2, shape=(40, 40))
+    valid = ~np.isnan(z)
+    centred = np.where(valid, z - np.nanmean(z), 0.0)
+    likelihood = BlockLikelihood(centred, valid, ((0, 0), (20, 12), (8, 24)), 14, np.ones(2), nu)
+    u = likelihood.unconstrained({"variance": 3.0, "lambda_a": 9.0, "lambda_b": 4.0,
+                                  "angle": -0.4, "noise_variance": 0.2})
+    value, grad = likelihood.value_and_gradient(u)
+    assert value == pytest.approx(likelihood.value(u), rel=1e-12)
+    h = 1e-5
+    numeric = [(likelihood.value(u + h * e) - likelihood.value(u - h * e)) / (2 * h)
+               for e in np.eye(u.size)]
+    assert np.allclose(grad, numeric, rtol=1e-5, atol=1e-5 * abs(value) * 1e-3)
+    assert np.all(np.abs(grad) > 1e-3)            # no component trivially zero at this point

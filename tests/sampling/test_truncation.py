@@ -60,3 +60,20 @@ def test_profile_and_bad_truncation():
     assert truncation.grid_lag_change(kernel.acvf, (50,), (1.0,), emb.torus_shape) == 0.0
     with pytest.raises(ValueError, match="truncation"):
         circulant.embed(kernel.acvf, (50,), truncation="taper")
+
+
+def test_an_invalid_acvf_is_refused_without_growing_the_torus_to_its_limit():
+    # exp(-t/1000) - 0.5 exp(-t/10): its PSD is negative at high frequencies (not eq 5's
+    # valid kernel); the eigenvalues settle at their negative values after a few doublings
+    def invalid(lags):
+        t = np.abs(lags[..., 0])
+        return np.exp(-t / 1000.0) - 0.5 * np.exp(-t / 10.0)
+
+    with pytest.raises(truncation.NotEmbeddableError, match="no larger torus") as caught:
+        circulant.embed(invalid, (2048,))
+    largest = int(str(caught.value).split(" to (")[1].split(",")[0])
+    assert largest < 2**18 < 2**27                      # far below max_points
+    # a valid ACVF of the same range (and a 100x longer one) still embeds exactly
+    for length in (1000.0, 1e5):
+        emb = circulant.embed(lambda lags: np.exp(-np.abs(lags[..., 0]) / length), (2048,))
+        assert emb.exact and emb.min_eigenvalue >= -1e-10

@@ -1,0 +1,26 @@
+"""Tests of roughgp.common.threads: small dense algebra on one BLAS thread, the setting restored."""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.linalg  # noqa: F401  (its BLAS listed from the start)
+from threadpoolctl import threadpool_info
+
+from roughgp.common.threads import one_blas_thread
+
+
+def _blas_threads():
+    return [lib["num_threads"] for lib in threadpool_info() if lib["user_api"] == "blas"]
+
+
+def test_one_thread_inside_and_the_setting_restored_after():
+    before = _blas_threads()
+    assert before                                   # numpy's and scipy's OpenBLAS are listed
+    with one_blas_thread():
+        assert _blas_threads() == [1] * len(before)
+        a = np.random.default_rng(0).normal(size=(50, 50))
+        np.linalg.cholesky(a @ a.T + 50 * np.eye(50))
+    assert _blas_threads() == before
+    with one_blas_thread(), one_blas_thread():      # nested: still one, then restored
+        assert _blas_threads() == [1] * len(before)
+    assert _blas_threads() == before
