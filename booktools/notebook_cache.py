@@ -12,6 +12,11 @@ hashes those, and :func:`prepare` empties the cache when the fingerprint changed
 ``roughgp/``, to ``requirements.lock``, to ``pyproject.toml``, to ``data/`` or to
 ``ROUGHGP_FULL`` re-executes every chapter. A fresh clone has no cache: everything runs.
 
+Expensive experiment results that several notebooks compute (the careful fits of figure 7,
+the bullet land's fit and check) are shared through ``roughgp.common.results_cache``: the
+kernels started here get ``ROUGHGP_RESULTS_CACHE`` = ``<cache>/results``, a folder inside the
+cache, emptied with it.
+
 As a Sphinx extension (``sphinx.local_extensions`` in ``book/_config.yml``) :func:`setup` runs
 :func:`prepare` before myst-nb opens the cache, so ``jupyter-book build book/`` is safe on its
 own as well, and makes Sphinx re-read every notebook when the fingerprint changed since the last
@@ -20,6 +25,7 @@ build (Sphinx re-reads only the pages whose own source changed).
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import os
 import platform
@@ -37,7 +43,7 @@ KEY_FILE = "roughgp-fingerprint.txt"
 DEPENDENCIES = ("roughgp", "data", "requirements.lock", "pyproject.toml")
 TIMEOUT = 900  # seconds per cell, as book/_config.yml's execute.timeout
 
-__all__ = ["CACHE", "Executed", "execute", "fingerprint", "prepare", "setup"]
+__all__ = ["CACHE", "Executed", "execute", "fingerprint", "prepare", "results_folder", "setup"]
 
 
 def _files(root: Path):
@@ -84,6 +90,31 @@ def prepare(cache: Path = CACHE, root: Path = ROOT, log=print) -> Path:
     return cache
 
 
+def results_folder(cache: Path = CACHE) -> Path:
+    """The folder ``results`` inside ``cache`` (emptied with the cache by :func:`prepare`):
+    what ``ROUGHGP_RESULTS_CACHE`` names for the kernels of the book's notebooks."""
+    folder = Path(cache) / "results"
+    folder.mkdir(parents=True, exist_ok=True)
+    return folder
+
+
+@contextlib.contextmanager
+def _sharing_results(cache):
+    """``ROUGHGP_RESULTS_CACHE`` set for the kernels started inside, restored after (the
+    test process itself keeps computing everything)."""
+    from roughgp.common.results_cache import ENV
+
+    before = os.environ.get(ENV)
+    os.environ[ENV] = str(results_folder(cache))
+    try:
+        yield
+    finally:
+        if before is None:
+            os.environ.pop(ENV, None)
+        else:
+            os.environ[ENV] = before
+
+
 @dataclass
 class Executed:
     """A notebook's run: ``cached`` (taken from the cache), ``seconds`` (its execution time,
@@ -116,8 +147,9 @@ def execute(path: str | Path, cache: Path = CACHE, timeout: int = TIMEOUT) -> Ex
     stage = store.add_nb_to_project(str(path))
     NbProjectRecord.remove_tracebacks([stage.pk], store.db)
     start = time.perf_counter()
-    result = single_nb_execution(notebook, cwd=str(path.parent), allow_errors=False,
-                                 timeout=timeout, meta_override=True)
+    with _sharing_results(cache):
+        result = single_nb_execution(notebook, cwd=str(path.parent), allow_errors=False,
+                                     timeout=timeout, meta_override=True)
     seconds = time.perf_counter() - start
     if result.err is not None:
         NbProjectRecord.set_traceback(stage.uri, result.exc_string, store.db)
@@ -134,7 +166,10 @@ def setup(app):
     re-reads the pages whose source changed; a notebook's outputs also change with roughgp)."""
     def _prepare(app, config):
         path = config.nb_execution_cache_path or Path(app.outdir).parent / ".jupyter_cache"
-        prepare(Path(path).resolve(), log=lambda msg: print(msg, file=sys.stderr))
+        from roughgp.common.results_cache import ENV
+
+        cache = prepare(Path(path).resolve(), log=lambda msg: print(msg, file=sys.stderr))
+        os.environ[ENV] = str(results_folder(cache))   # for the kernels myst-nb starts
 
     def _outdated(app, env, added, changed, removed):
         key, old = fingerprint(), getattr(env, "roughgp_notebook_key", None)

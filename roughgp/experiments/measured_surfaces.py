@@ -19,6 +19,7 @@ The verdicts are the data's; where the model does not fit, the results say so.
 from __future__ import annotations
 
 import dataclasses
+import functools
 from pathlib import Path
 
 import numpy as np
@@ -179,6 +180,22 @@ def hide_discs(valid, share, *, radius=(1, 3), seed=0) -> np.ndarray:
     return hidden
 
 
+@functools.lru_cache(maxsize=4)
+def _hidden_and_baseline(name, share, seed, crop_key):
+    """The measurement, its (cropped) heights, the hidden points and the linear and cubic
+    interpolation of them: the same for every kernel tried on one file (cached)."""
+    m = _read(name)
+    z = m.z if crop_key is None else m.z[tuple(slice(a, b) for a, b in crop_key)]
+    valid = np.isfinite(z)
+    hidden = hide_discs(valid, share, seed=seed)
+    whole = (slice(0, z.shape[0]), slice(0, z.shape[1]))
+    baseline = interpolate_baseline(np.where(hidden, np.nan, z), ~valid | hidden, whole,
+                                    margin=0)
+    for array in (z, hidden):
+        array.setflags(write=False)
+    return m, z, hidden, baseline
+
+
 def cross_validated_fill(name=LAND_FILE, *, share=0.02, seed=0, form="cylinder",
                          crop=None, nu=0.5) -> CrossValidation:
     """Hide ``share`` of the measured points of ``data/name`` in small discs, fill them with
@@ -188,16 +205,11 @@ def cross_validated_fill(name=LAND_FILE, *, share=0.02, seed=0, form="cylinder",
     fitted kernel (0.5: eq 18; 1.5, 2.5: its Matérn variant)."""
     import time
 
-    m = _read(name)
-    z = m.z if crop is None else m.z[crop]
-    valid = np.isfinite(z)
-    hidden = hide_discs(valid, share, seed=seed)
+    crop_key = None if crop is None else tuple((c.start, c.stop) for c in crop)
+    m, z, hidden, baseline = _hidden_and_baseline(name, share, seed, crop_key)
     start = time.perf_counter()
     gp = fill_measured_surface(z, spacing=m.spacing, form=form, seed=seed, mask=hidden, nu=nu)
     seconds = {"GP": time.perf_counter() - start}
-    whole = (slice(0, z.shape[0]), slice(0, z.shape[1]))
-    baseline = interpolate_baseline(np.where(hidden, np.nan, z), ~valid | hidden, whole,
-                                    margin=0)
     truth = z[hidden]
     at = hidden[baseline.evaluate]
     estimates = {"GP": gp.filled[hidden]}

@@ -29,6 +29,7 @@ import functools
 import numpy as np
 
 from roughgp import sampling
+from roughgp.common.results_cache import persistent
 from roughgp.gp import kernels
 from roughgp.gp.noise import GaussianNoise
 from roughgp.inference import fitting
@@ -145,6 +146,7 @@ def _level_turned_surface(shape, seed):
 
 
 @functools.lru_cache(maxsize=2)
+@persistent
 def _paper_fits(shape, q, seed):
     z = _level_turned_surface(shape, seed)
     x = np.arange(shape[1]) * SPACING
@@ -158,6 +160,7 @@ def _paper_fits(shape, q, seed):
 
 
 @functools.lru_cache(maxsize=2)
+@persistent
 def _careful_fits(shape, q, seed):
     fits = _paper_fits(shape, q, seed)
     careful_x = fitting.fit_spectral_mixture(fits.x, fits.across_feed, q, seed=seed, **CAREFUL)

@@ -77,3 +77,15 @@ def test_a_failing_cell_fails_with_its_traceback_and_is_not_cached(tmp_path):
     for _ in range(2):
         run = notebook_cache.execute(path, cache)
         assert not run.cached and "the claim fails" in run.error
+
+
+def test_the_kernels_share_results_inside_the_cache_and_the_test_process_does_not(
+        tmp_path, monkeypatch):
+    from roughgp.common.results_cache import ENV
+
+    monkeypatch.delenv(ENV, raising=False)
+    cache = notebook_cache.prepare(tmp_path / "cache", _root(tmp_path), log=lambda m: None)
+    path = _notebook(tmp_path / "env.ipynb", "import os",
+                     f"assert os.environ[{ENV!r}] == {str(cache / 'results')!r}")
+    assert notebook_cache.execute(path, cache).error is None
+    assert ENV not in __import__("os").environ          # restored after the kernel ran
