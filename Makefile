@@ -2,7 +2,8 @@
 # Each creates ./.venv on first use (torch==2.13.0 first, then the lock, then roughgp).
 # Both execute the notebooks through one cache (book/_build/.jupyter_cache, see
 # booktools/notebook_cache.py): whichever runs second reuses what the first executed.
-# `make student` writes the labs without their solutions (book/_build/student/).
+# `make student` writes the labs without their solutions (book/_build/student/: the notebooks, a
+# zip, and the book built without solutions, from the same cache).
 PYTHON ?= python3.11
 VENV ?= .venv
 BIN := $(VENV)/bin

@@ -35,6 +35,8 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from roughgp.common.digests import source_files, update_with_files
+
 ROOT = Path(__file__).resolve().parents[1]
 BOOK = ROOT / "book"
 CACHE = BOOK / "_build" / ".jupyter_cache"
@@ -48,21 +50,14 @@ __all__ = ["CACHE", "Executed", "execute", "fingerprint", "prepare", "results_fo
 
 def _files(root: Path):
     for name in DEPENDENCIES:
-        path = root / name
-        if path.is_file():
-            yield path
-        elif path.is_dir():
-            yield from sorted(p for p in path.rglob("*") if p.is_file()
-                              and "__pycache__" not in p.parts and p.suffix != ".pyc")
+        yield from source_files(root / name)
 
 
 def fingerprint(root: Path = ROOT) -> str:
     """SHA-256 over what the notebooks depend on: the files of :data:`DEPENDENCIES` (names and
     contents), the Python and torch versions, and the ``ROUGHGP_FULL`` switch."""
     h = hashlib.sha256()
-    for path in _files(root):
-        h.update(str(path.relative_to(root)).encode() + b"\0")
-        h.update(hashlib.sha256(path.read_bytes()).digest())
+    update_with_files(h, _files(root), root)
     try:
         from importlib.metadata import version
         torch = version("torch")

@@ -18,6 +18,7 @@ import time
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
+from roughgp.common.digests import source_files, update_with_files
 from roughgp.ledger.runner import CLAIMS, claim, write
 from roughgp.ledger.types import Outcome
 
@@ -38,12 +39,9 @@ def fingerprint(full: bool) -> str:
     the size setting ``full``."""
     h = hashlib.sha256()
     package = Path(__file__).resolve().parents[1]
-    for path in sorted(p for p in package.rglob("*") if p.is_file()
-                       and "__pycache__" not in p.parts and p.suffix != ".pyc"):
-        h.update(str(path.relative_to(package)).encode() + b"\0")
-        h.update(hashlib.sha256(path.read_bytes()).digest())
+    update_with_files(h, source_files(package), package)
     for path in _data_files():
-        h.update(path.name.encode() + b"\0" + hashlib.sha256(path.read_bytes()).digest())
+        update_with_files(h, [path], path.parent)
     for name in _LIBRARIES:
         try:
             h.update(f"{name} {version(name)}\0".encode())

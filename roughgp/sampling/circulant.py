@@ -187,23 +187,15 @@ def _embed_wrapped(acvf, shape, spacing=1.0, *, tolerance=1e-10, approximate=Fal
             scale = np.sqrt(np.clip(eig, 0.0, None) / eig.size)
             return Embedding(shape, spacing, torus_shape, scale, min_rel, clipped, tuple(tries))
         if outer_level <= tolerance:
-            raise NotEmbeddableError(
-                f"the ACVF is not positive definite on a grid of spacing {spacing}: on the "
-                f"torus {torus_shape} its circulant embedding has eigenvalues down to "
-                f"{min_rel:.3g} x r(0) ({negative_share:.2g} of the trace) although the ACVF is "
-                f"already below {tolerance:g} x r(0) on the torus' outer half, so no larger "
-                f"torus removes them. A valid kernel (eq 5: its PSD is >= 0) is needed.")
+            raise tapering.not_valid_error(spacing, f"on the torus {torus_shape}", min_rel,
+                                           negative_share, tolerance, "on the torus' outer half")
         levels = [_boundary_level(acvf, torus_shape, spacing, a) for a in range(len(shape))]
         axis = int(np.argmax(levels))
         torus[axis] = _grow(torus[axis])
         if np.prod(torus) > max_points:
-            raise NotEmbeddableError(
-                f"circulant embedding of shape {shape} (spacing {spacing}) keeps negative "
-                f"eigenvalues: most negative {min_rel:.3g} x r(0) (tolerance {tolerance:g}), "
-                f"{negative_share:.2g} of the trace, on the largest torus tried, "
-                f"{torus_shape}; tried {[t for t, _ in tries]}; the next ({tuple(torus)}) "
-                f"exceeds max_points = {max_points}. Use approximate=True to clip (the lost "
-                f"variance is reported), a smaller grid, or method='cholesky'.")
+            raise tapering.too_large_error(shape, spacing, min_rel, negative_share, tolerance,
+                                           torus_shape, [t for t, _ in tries], torus,
+                                           max_points)
 
 
 def predict_torus(acvf, shape, spacing, *, boundary_level=1e-5, max_points=2**27,

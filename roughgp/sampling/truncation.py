@@ -20,7 +20,8 @@ import scipy.fft
 
 __all__ = ["NotEmbeddableError", "taper", "torus_of", "tapered_acvf", "tapered_eigenvalues",
            "face_levels", "search_margins", "criterion", "wrapped_lags", "wrapped_acvf",
-           "rounding_level", "grid_lag_change"]
+           "rounding_level", "grid_lag_change", "not_valid_error",
+           "too_large_error"]
 
 _BLOCK_POINTS = 2**20  # ACVF evaluated on about this many torus points at a time (peak memory)
 
@@ -147,13 +148,8 @@ def search_margins(acvf, shape, spacing, *, tolerance, approximate, max_clipped_
         torus = torus_of(shape, margins)
         if np.prod(torus, dtype=np.float64) > max_points:
             last = tries[-1] if tries else (torus, float("nan"), float("nan"))
-            raise NotEmbeddableError(
-                f"circulant embedding of shape {shape} (spacing {spacing}) keeps negative "
-                f"eigenvalues: most negative {last[1]:.3g} x r(0) (tolerance {tolerance:g}), "
-                f"{last[2]:.2g} of the trace, on the largest torus tried, {last[0]}; tried "
-                f"{[t for t, _, _ in tries]}; the next ({torus}) exceeds max_points = "
-                f"{max_points}. Use approximate=True to clip (the lost variance is reported), "
-                f"a smaller grid, or method='cholesky'.")
+            raise too_large_error(shape, spacing, last[1], last[2], tolerance, last[0],
+                                  [t for t, _, _ in tries], torus, max_points)
         eig, variance, rounding = tapered_eigenvalues(acvf, torus, spacing, shape)
         done, min_rel, share = criterion(eig, variance, rounding, tolerance, approximate,
                                           max_clipped_fraction)
@@ -167,21 +163,13 @@ def search_margins(acvf, shape, spacing, *, tolerance, approximate, max_clipped_
             break
         levels = face_levels(acvf, shape, spacing, torus)
         if max(levels) <= tolerance:
-            raise NotEmbeddableError(
-                f"the ACVF is not positive definite on a grid of spacing {spacing}: on the "
-                f"torus {tries[-1][0]} its circulant embedding has eigenvalues down to "
-                f"{found[3]:.3g} x r(0) ({found[4]:.2g} of the trace) although the ACVF is "
-                f"already below {tolerance:g} x r(0) beyond the grid's lags, so no "
-                f"larger torus removes them. A valid kernel (eq 5: its PSD is >= 0) is needed.")
+            raise not_valid_error(spacing, f"on the torus {tries[-1][0]}", found[3], found[4],
+                                  tolerance, "beyond the grid's lags")
         if not verify_only and _stagnant(tries) and \
                 max(face_levels(acvf, shape, spacing, torus, outer=True)) <= tolerance:
-            first = tries[-STAGNANT_TRIES - 1]
-            raise NotEmbeddableError(
-                f"the ACVF is not positive definite on a grid of spacing {spacing}: from the "
-                f"torus {first[0]} to {tries[-1][0]} its circulant embedding kept eigenvalues "
-                f"down to {found[3]:.3g} x r(0) ({found[4]:.2g} of the trace) although the ACVF "
-                f"is below {tolerance:g} x r(0) where the taper ends, so no larger torus "
-                f"removes them. A valid kernel (eq 5: its PSD is >= 0) is needed.")
+            raise not_valid_error(spacing, f"from the torus {tries[-STAGNANT_TRIES - 1][0]} to "
+                                  f"{tries[-1][0]}", found[3], found[4], tolerance,
+                                  "where the taper ends")
         low = list(margins)
         badness = [lv / max(k, 1) for lv, k in zip(levels, margins)]  # per grid point: scale-free
         for a, b in enumerate(badness):
@@ -199,6 +187,30 @@ def search_margins(acvf, shape, spacing, *, tolerance, approximate, max_clipped_
         else:
             low = middle
     return (*found, tuple((t, m) for t, m, _ in tries))
+
+
+def too_large_error(shape, spacing, min_rel, share, tolerance, largest, tried, next_torus,
+                    max_points):
+    """The error for an embedding that still has negative eigenvalues (down to ``min_rel`` x
+    r(0), ``share`` of the trace) on the ``largest`` of the tori ``tried`` when the next one
+    would exceed ``max_points``."""
+    return NotEmbeddableError(
+        f"circulant embedding of shape {shape} (spacing {spacing}) keeps negative "
+        f"eigenvalues: most negative {min_rel:.3g} x r(0) (tolerance {tolerance:g}), "
+        f"{share:.2g} of the trace, on the largest torus tried, {largest}; tried {tried}; the "
+        f"next ({tuple(next_torus)}) exceeds max_points = {max_points}. Use approximate=True "
+        f"to clip (the lost variance is reported), a smaller grid, or method='cholesky'.")
+
+
+def not_valid_error(spacing, where, min_rel, share, tolerance, below):
+    """The error for an ACVF whose embedding keeps negative eigenvalues (down to ``min_rel``
+    x r(0), ``share`` of the trace) that no larger torus removes: ``where`` says on which
+    tori, ``below`` where the ACVF is already below ``tolerance``."""
+    return NotEmbeddableError(
+        f"the ACVF is not positive definite on a grid of spacing {spacing}: {where} its "
+        f"circulant embedding has eigenvalues down to {min_rel:.3g} x r(0) ({share:.2g} "
+        f"of the trace) although the ACVF is below {tolerance:g} x r(0) {below}, so no larger "
+        f"torus removes them. A valid kernel (eq 5: its PSD is >= 0) is needed.")
 
 
 STAGNANT_TRIES = 3      # doublings without change after which a larger torus is not tried

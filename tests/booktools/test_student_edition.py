@@ -92,3 +92,56 @@ def test_a_student_run_stops_at_the_first_blank(edition, index):
     message = str(info.value)
     assert "NotImplementedError" in message and "NameError" not in message
     assert f"Task 1 ({first_task.group(1).strip()}) is not solved yet" in message
+
+
+_PAGE = """# A lab
+
+:::{exercise} Lab 9, task 1
+:nonumber:
+:label: lab9-task1
+
+Compute the answer.
+:::
+
+:::{solution-start} lab9-task1
+:class: dropdown
+:::
+
+The answer is FORTY-TWO-SOLUTION.
+
+:::{solution-end}
+:::
+"""
+
+
+def _tiny_book(root):
+    root.mkdir()
+    (root / "_config.yml").write_text(
+        "title: tiny\nonly_build_toc_files: true\nexecute:\n  execute_notebooks: 'off'\n"
+        "parse:\n  myst_enable_extensions: [colon_fence]\n"
+        "sphinx:\n  extra_extensions: [sphinx_exercise]\n"
+        f"  local_extensions:\n    student: {student.ROOT / 'booktools'}\n")
+    (root / "_toc.yml").write_text("format: jb-book\nroot: lab\n")
+    (root / "lab.md").write_text(_PAGE)
+    return root
+
+
+def test_the_student_book_hides_every_solution_the_reference_book_shows(tmp_path):
+    book = _tiny_book(tmp_path / "book")
+    config = student.student_book_config(tmp_path / "cfg", book, cache=tmp_path / "cache")
+    text = config.read_text()
+    assert "roughgp_student_book: true" in text and str((tmp_path / "cache").resolve()) in text
+    html = student.build_student_book(tmp_path / "student", book)
+    page = (html / "lab.html").read_text()
+    assert "Compute the answer" in page and "FORTY-TWO-SOLUTION" not in page
+    assert student.solutions_left(html) == []
+    # the reference build of the same page shows the solution, and the check finds it
+    reference = tmp_path / "reference"
+    import subprocess
+    import sys
+    subprocess.run([str(Path(sys.executable).with_name("jupyter-book")), "build",
+                    "--path-output", str(reference), str(book)], check=True,
+                   capture_output=True)
+    shown = reference / "_build" / "html"
+    assert "FORTY-TWO-SOLUTION" in (shown / "lab.html").read_text()
+    assert student.solutions_left(shown) == ["lab.html"]

@@ -60,8 +60,16 @@ def test_library_advice_is_rewritten_for_the_shell(capsys, tmp_path, monkeypatch
 
 
 def test_the_library_still_advises_what_the_cli_rewrites():
-    source = (ROOT / "roughgp" / "sampling" / "circulant.py").read_text()
-    assert "Use approximate=True to clip (the lost " in source and "method='cholesky'." in source
+    # the embedding's refusal (both truncations raise this one) as the library words it, and
+    # as a shell user reads it
+    from roughgp.sampling import truncation
+
+    error = truncation.too_large_error((100, 100), (1.0, 1.0), -0.5, 0.01, 1e-10, (512, 512),
+                                       [(256, 256), (512, 512)], (1024, 1024), 2**18)
+    assert "approximate=True" in str(error) and "method='cholesky'" in str(error)
+    shell = shell_message(str(error))
+    assert "approximate=True" not in shell and "method='cholesky'" not in shell
+    assert "Give a smaller --shape" in shell
 
 
 def test_rename_parameters_replaces_whole_words_only():
