@@ -34,12 +34,14 @@ from roughgp.beyond.measured.fit import (
 )
 from roughgp.common.checks import as_generator
 from roughgp.experiments.gap_filling import interpolate_baseline
+from roughgp.metrology.form import remove_form
 from roughgp.metrology.measurement import Measurement, read_measurement
 
 __all__ = ["DATA", "LAND_FILE", "PROFILE_FILE", "LAND_L_FILTER", "LandResult", "ProfileResult",
            "CrossValidation", "CV_FILES", "lay_deviation_deg", "land_fit", "land_check",
            "bullet_land", "stylus_profile", "cross_validated_fill", "centre_crop", "hide_discs",
-           "fill_verdicts", "TIE"]
+           "fill_verdicts", "TIE", "difference_ratio",
+           "file_difference_ratio"]
 
 DATA = Path(__file__).resolve().parents[2] / "data"
 LAND_FILE = "sample-land.x3p"
@@ -246,3 +248,20 @@ def fill_verdicts(cvs, smooth_land=None) -> dict:
         verdicts["the Matern variant (nu 2.5) beats linear interpolation on the land"] = \
             smooth_land.rmse["GP"] < (1 - TIE) * smooth_land.rmse["linear"]
     return verdicts
+
+
+def difference_ratio(heights) -> float:
+    """How rough a height map is at its spacing: the standard deviation of its second
+    differences over that of its first differences, along y and x (the mean of the two; NaN
+    ignored). About sqrt(2) = 1.41 for independent increments (a random walk, the local
+    behaviour of eq 18 with a correlation length far beyond the spacing), sqrt(3) = 1.73 for
+    white noise, and well below 1 for a surface smooth at its spacing."""
+    heights = np.asarray(heights, dtype=np.float64)
+    return float(np.mean([np.nanstd(np.diff(heights, 2, axis=a)) /
+                          np.nanstd(np.diff(heights, axis=a)) for a in (0, 1)]))
+
+
+def file_difference_ratio(name, form) -> float:
+    """:func:`difference_ratio` of ``data/name`` with its form (``form``) removed."""
+    m = _read(name)
+    return difference_ratio(remove_form(m.z, m.spacing, form)[0])

@@ -238,7 +238,7 @@ CLAIM_TABLE = [
          why="2 % of the measured points hidden in discs, eq 18 fitted without them; on the "
              "whole files (full, experiments.measured_surfaces.fill_verdicts) the GP beats "
              "cubic everywhere and linear on opd-1, ties with linear on the land and loses to "
-             "it on the smooth sur-2.sur; its band is calibrated on opd-1 and too narrow "
+             "it on sur-2.sur; its band is calibrated on opd-1 and too narrow "
              "(about 90 %) on the other two",
          chapter="measured_surfaces", check=check_measured_fill),
     dict(key="scale-device", where="Beyond the paper (scale)",

@@ -26,3 +26,18 @@ def test_the_lay_deviation_is_the_distance_from_y(angle, deviation):
 def test_the_chapter_files_exist():
     for name in ms.CV_FILES:
         assert (ms.DATA / name).is_file()
+
+
+def test_the_difference_ratio_tells_white_noise_a_random_walk_and_a_smooth_surface():
+    import numpy as np
+
+    rng = np.random.default_rng(0)
+    white = rng.normal(size=(300, 300))
+    # a random walk along each axis (independent increments both ways; over 300 of them the
+    # ratio scatters by about 3 %)
+    walk = np.cumsum(rng.normal(size=300))[:, None] + np.cumsum(rng.normal(size=300))[None, :]
+    y, x = np.mgrid[0:300, 0:300]
+    smooth = np.sin(x / 15.0) * np.cos(y / 20.0)
+    assert ms.difference_ratio(white) == pytest.approx(np.sqrt(3), rel=0.02)
+    assert ms.difference_ratio(walk) == pytest.approx(np.sqrt(2), rel=0.05)
+    assert ms.difference_ratio(smooth) < 0.1
