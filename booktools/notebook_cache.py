@@ -36,6 +36,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from roughgp.common.digests import source_files, update_with_files
+from roughgp.common.settings import full_size
 
 ROOT = Path(__file__).resolve().parents[1]
 BOOK = ROOT / "book"
@@ -63,8 +64,7 @@ def fingerprint(root: Path = ROOT) -> str:
         torch = version("torch")
     except Exception:  # noqa: BLE001 - not installed: part of the key as such
         torch = "none"
-    full = os.environ.get("ROUGHGP_FULL", "").strip().lower() in {"1", "true", "yes"}
-    h.update(f"python {platform.python_version()} torch {torch} full {full}".encode())
+    h.update(f"python {platform.python_version()} torch {torch} full {full_size()}".encode())
     return h.hexdigest()
 
 

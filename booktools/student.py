@@ -21,8 +21,9 @@ The student *book* (:func:`build_student_book`) is the whole book built with the
 extension removes those nodes, so the chapters and the labs' tasks are as in the book and every
 solution (code and written answers) is left out. (sphinx-exercise's own ``hide_solutions`` drops
 only the opening directive of a gated solution: its content stays on the page, and the closing
-node stops the HTML writer; sphinx-exercise 1.2.1.) It takes the executed notebooks from the book's cache, so after
-``make book`` (or ``make test``) it only renders; :func:`solutions_left` checks its pages.
+node stops the HTML writer; sphinx-exercise 1.2.1.) It takes the executed notebooks from the
+book's cache, so after ``make book`` (or ``make test``) it only renders; :func:`solutions_left`
+checks its pages.
 """
 
 from __future__ import annotations

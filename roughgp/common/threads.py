@@ -11,7 +11,9 @@ thread for the duration of a ``with`` block; the limit is set and restored in ab
 
 from __future__ import annotations
 
-__all__ = ["SMALL_DENSE_ROWS", "one_blas_thread"]
+import contextlib
+
+__all__ = ["SMALL_DENSE_ROWS", "one_blas_thread", "blas_threads_for"]
 
 SMALL_DENSE_ROWS = 1024
 """Dense matrices up to this many rows are factorised on one BLAS thread."""
@@ -28,3 +30,9 @@ def one_blas_thread():
 
         _controller = ThreadpoolController()
     return _controller.limit(limits=1, user_api="blas")
+
+
+def blas_threads_for(rows):
+    """A context manager for a dense factorisation of ``rows`` rows: :func:`one_blas_thread`
+    up to :data:`SMALL_DENSE_ROWS` rows, the libraries' own setting above."""
+    return one_blas_thread() if rows <= SMALL_DENSE_ROWS else contextlib.nullcontext()

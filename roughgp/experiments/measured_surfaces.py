@@ -113,7 +113,7 @@ def lay_deviation_deg(fit: SurfaceModelFit) -> float:
     """The fitted lay angle (phi of eq 18) from the land's striations (along y: 90 degrees
     from x), in degrees, 0 to 90."""
     angle = fit.model.hyperparameters["angle_deg"]
-    return float(abs((angle - 90.0 + 90.0) % 180.0 - 90.0))
+    return float(abs(angle % 180.0 - 90.0))
 
 
 def land_fit(*, seed=0, l_filter=LAND_L_FILTER) -> tuple[Measurement, SurfaceModelFit]:

@@ -28,20 +28,16 @@ RUN_FILE = "run.json"
 _LIBRARIES = ("numpy", "scipy", "torch", "gpytorch", "emcee", "matplotlib", "SurfaceTopography")
 
 
-def _data_files():
-    from roughgp.experiments.measured_surfaces import DATA
-    return sorted(p for p in Path(DATA).rglob("*") if p.is_file()) if Path(DATA).is_dir() else []
-
-
 def fingerprint(full: bool) -> str:
     """SHA-256 over what the checks' results depend on: roughgp's own files, the data files the
     measured-surface checks read, the versions of Python and of the numerical libraries, and
     the size setting ``full``."""
     h = hashlib.sha256()
     package = Path(__file__).resolve().parents[1]
+    from roughgp.experiments.measured_surfaces import DATA
+
     update_with_files(h, source_files(package), package)
-    for path in _data_files():
-        update_with_files(h, [path], path.parent)
+    update_with_files(h, source_files(DATA), DATA)
     for name in _LIBRARIES:
         try:
             h.update(f"{name} {version(name)}\0".encode())

@@ -24,3 +24,14 @@ def test_one_thread_inside_and_the_setting_restored_after():
     with one_blas_thread(), one_blas_thread():      # nested: still one, then restored
         assert _blas_threads() == [1] * len(before)
     assert _blas_threads() == before
+
+
+def test_the_size_decides_for_a_dense_factorisation():
+    from roughgp.common.threads import SMALL_DENSE_ROWS, blas_threads_for
+
+    before = _blas_threads()
+    with blas_threads_for(SMALL_DENSE_ROWS):
+        assert _blas_threads() == [1] * len(before)
+    with blas_threads_for(SMALL_DENSE_ROWS + 1):
+        assert _blas_threads() == before
+    assert _blas_threads() == before

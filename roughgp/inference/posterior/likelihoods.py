@@ -17,7 +17,7 @@ from roughgp.common.checks import check_finite, check_positive
 from roughgp.common.device import check_memory, gaussian_log_density
 from roughgp.common.device import resolve as resolve_device
 from roughgp.common.grid import normalize
-from roughgp.common.threads import SMALL_DENSE_ROWS, one_blas_thread
+from roughgp.common.threads import blas_threads_for
 from roughgp.gp.toeplitz import toeplitz_log_likelihood
 from roughgp.sampling.grid_sampler import grid_covariance
 
@@ -117,16 +117,11 @@ def grid_likelihood(z, spacing, kernel_factory: Callable, *, device=None) -> Cal
 
         return loglik_on_device
 
-    small = y.size <= SMALL_DENSE_ROWS   # one BLAS thread (roughgp.common.threads)
-
     def loglik(params):
         cov = grid_covariance(kernel_factory(params), shape, spacing)
         cov[np.diag_indices_from(cov)] += params.get("noise_variance", 0.0)
         try:
-            if small:
-                with one_blas_thread():
-                    factor = scipy.linalg.cho_factor(cov, lower=True, check_finite=True)
-            else:
+            with blas_threads_for(y.size):
                 factor = scipy.linalg.cho_factor(cov, lower=True, check_finite=True)
         except np.linalg.LinAlgError:
             raise ValueError(not_pd) from None
