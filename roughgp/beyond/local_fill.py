@@ -76,7 +76,7 @@ def _lag_table(acvf, shape, spacing):
 
 
 def fill_gaps_locally(z, kernel, *, noise_variance, spacing=1.0, mask=None, tile=24, margin=8,
-                      min_observed=64) -> LocalFill:
+                      min_observed=64, predict=None) -> LocalFill:
     """Fill the NaN (and ``mask``-ed) points of ``z`` with the GP posterior mean and sd given
     the measured points within ``margin`` of each ``tile x tile`` core (module docstring).
 
@@ -90,6 +90,8 @@ def fill_gaps_locally(z, kernel, *, noise_variance, spacing=1.0, mask=None, tile
         mask: optional boolean map: measured points to treat as missing as well.
         tile, margin: core side and margin in points (tile >= 1, margin >= 1).
         min_observed: measured points a window needs before its margin stops growing.
+        predict: optional boolean map: predict only the missing points it marks (the others
+            stay unobserved and NaN in ``mean``); default: all missing points.
     """
     start = time.perf_counter()
     z, missing = missing_map(z, mask, allow_complete=True)
@@ -102,6 +104,13 @@ def fill_gaps_locally(z, kernel, *, noise_variance, spacing=1.0, mask=None, tile
     table = _lag_table(acvf_of(kernel), shape, spacing)
     variance = float(table[ny - 1, nx - 1])
     observed = ~missing
+    targets_map = missing
+    if predict is not None:
+        predict = np.asarray(predict)
+        if predict.dtype != bool or predict.shape != shape:
+            raise ValueError(f"predict must be a boolean array of the shape of z {shape}, got "
+                             f"{predict.dtype} of shape {predict.shape}")
+        targets_map = missing & predict
     offset = float(np.mean(z[observed]))
     centred = np.where(observed, z - offset, 0.0)
     mean = np.where(missing, np.nan, z)
@@ -112,7 +121,7 @@ def fill_gaps_locally(z, kernel, *, noise_variance, spacing=1.0, mask=None, tile
         for r0 in range(0, ny, tile):
             for c0 in range(0, nx, tile):
                 core = np.s_[r0:r0 + tile, c0:c0 + tile]
-                targets = missing[core]
+                targets = targets_map[core]
                 if not targets.any():
                     continue
                 m = margin

@@ -34,14 +34,20 @@ instrument leaves at steep flanks: the form is removed (F-operator: a least-squa
 default, --form cylinder for a curved part), eq 18 plus white noise is fitted to the
 measured points alone (block composite likelihood, roughgp.inference.block_fit) unless
 --model gives a model file of 'roughgp fit ground', the missing points get the GP posterior
-mean, and the form is added back. --method local (default: moving-window kriging,
+mean, and the form is added back. Before the fill, 2 % of the measured points (at most
+2000) are held out in small discs, filled without them and compared with their heights and
+with linear interpolation (roughgp.beyond.measured.self_check): the self-check says
+whether the GP beats linear interpolation on this file, and calibrates the 95 % band of
+--band; --nu auto fits 0.5, 1.5 and 2.5 and keeps the smoothness that fills the held-out
+points best (eq 18 unless another is better by more than one standard error); --no-check
+skips it. --method local (default: moving-window kriging,
 roughgp.beyond.local_fill; bounded work, an exact sd per window, holds on real
 measurements) or global (all measured points: conjugate gradients with FFT products and
 --samples pathwise draws for the sd; for well-conditioned synthetic cases). --sd also
 writes the posterior standard deviation at the filled points. Heights and lengths in um.
 
 example:
-  roughgp fill measured.x3p --out filled.x3p --sd sd.x3p --seed 0"""
+  roughgp fill measured.x3p --out filled.x3p --sd sd.x3p --band band.x3p --nu auto --seed 0"""
 
 
 def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
@@ -52,12 +58,19 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     f.add_argument("--out", required=True, metavar="FILE",
                    help="the filled surface: " + ", ".join(WRITE_FORMATS))
     f.add_argument("--sd", metavar="FILE", help="also write the posterior sd map")
+    f.add_argument("--band", metavar="FILE",
+                   help="also write the half-width of the 95 %% band of a new measurement at "
+                        "the filled points (calibrated by the self-check; Gaussian 1.96 sd "
+                        "with --no-check)")
     f.add_argument("--model", metavar="MODEL.json",
                    help="use this eq 18 model file (roughgp fit ground) instead of a fit")
     add_form_options(f, "F-operator removed and added back")
-    f.add_argument("--nu", type=float, choices=(0.5, 1.5, 2.5), default=0.5,
+    f.add_argument("--nu", choices=("0.5", "1.5", "2.5", "auto"), default="0.5",
                    help="smoothness of the fitted kernel: 0.5 is eq 18 (default); 1.5, 2.5 "
-                        "a smoother Matern profile (ignored with --model)")
+                        "a smoother Matern profile; auto: the one the self-check fills best "
+                        "(not with --model)")
+    f.add_argument("--no-check", dest="check", action="store_false",
+                   help="skip the self-check on held-out measured points")
     f.add_argument("--method", choices=("local", "global"), default="local",
                    help="local (default): moving-window kriging; global: all points by CG")
     f.add_argument("--samples", type=int, default=16, metavar="N",
@@ -80,8 +93,16 @@ def run(args) -> int:
     """``roughgp fill FILE``: fill the unmeasured points of a surface with the GP posterior."""
     from roughgp.beyond.measured.fill import fill_measured_surface
     from roughgp.cli.options import load_model
-    out, sd_out = check_outputs(("--out", args.out, "heights"), ("--sd", args.sd, "heights"),
-                                inputs=(args.file, args.model), force=args.force)
+    out, sd_out, band_out = check_outputs(("--out", args.out, "heights"),
+                                          ("--sd", args.sd, "heights"),
+                                          ("--band", args.band, "heights"),
+                                          inputs=(args.file, args.model), force=args.force)
+    nu = args.nu if args.nu == "auto" else float(args.nu)
+    if nu == "auto" and args.model:
+        raise UsageError("--nu auto chooses the smoothness of a fit; --model has its own "
+                         "(leave out one of them)")
+    if nu == "auto" and not args.check:
+        raise UsageError("--nu auto chooses by the self-check; it cannot run with --no-check")
     if not 0 <= args.samples <= MAX_SAMPLES:
         raise UsageError(f"--samples must be in [0, {MAX_SAMPLES}], got {args.samples}")
     if sd_out is not None and args.method == "global" and args.samples < 2:
@@ -106,7 +127,7 @@ def run(args) -> int:
         raise UsageError(f"{args.file} holds a profile; fill needs a surface z[iy, ix]")
     (dy, dx), z = heights.spacing, heights.z
     spacing = dx if dy == dx else (dy, dx)
-    if dy != dx and ".csv" in {out.suffix.lower(), (sd_out or out).suffix.lower()}:
+    if dy != dx and ".csv" in {f.suffix.lower() for f in (out, sd_out, band_out) if f}:
         raise UsageError(f"the spacing differs along y and x ({dy:g}, {dx:g} um): a .csv "
                          f"stores one spacing; write .x3p or .npy")
     missing = np.isnan(z)
@@ -123,17 +144,27 @@ def run(args) -> int:
                                        seed=args.seed, block=args.block, n_blocks=args.blocks,
                                        form=None if args.form == "none" else args.form,
                                        degree=args.degree, axis=args.axis, model=model,
-                                       method=args.method, nu=args.nu, device=args.device)
+                                       method=args.method, nu=nu, self_check=args.check,
+                                       device=args.device)
     except ValueError as exc:
         raise UsageError(f"{args.file}: {exc}") from None
     fit, fill = result.fit, result.gaps
+    if args.check and result.self_check is None:
+        err(f"note: too few measured points ({(~missing).sum()}) for the self-check; the band "
+            f"is the Gaussian one")
+    for smoothness, check in result.self_checks.items():
+        chosen = " <- used" if len(result.self_checks) > 1 and smoothness == result.nu else ""
+        err(f"self-check: {check.summary()}{chosen}")
     if fit is not None:
         fit_seconds = time.perf_counter() - start - fill.seconds
-        used = (f"eq 18 plus white noise fitted to the measured points "
+        name = "eq 18" if result.nu == 0.5 else f"eq 18 with Matern nu {result.nu:g}"
+        used = (f"{name} plus white noise fitted to the measured points "
                 f"({describe_groove(fit.groove)}, noise variance {fit.noise_variance:.4g} um^2)")
-        err(f"eq 18 fitted on {fit.n_points} measured points of {len(fit.blocks)} blocks in "
-            f"{fit_seconds:.1f} s: {describe_groove(fit.groove)}, noise variance "
-            f"{fit.noise_variance:.4g} um^2")
+        how = " and self-checked" if result.self_checks else ""
+        err(f"{name} fitted{how} on {fit.n_points} measured points of {len(fit.blocks)} blocks "
+            f"in {fit_seconds:.1f} s: {describe_groove(fit.groove)}, noise variance "
+            f"{fit.noise_variance:.4g} um^2" + (" (without the held-out points)"
+                                                 if result.self_checks else ""))
     else:
         used = f"the model {Path(args.model).name} ({model.describe()})"
         err(f"model {args.model}: {model.describe()}")
@@ -165,4 +196,15 @@ def run(args) -> int:
         sd = result.sd[missing]
         err(f"wrote {sd_out} (posterior sd of the latent surface at the filled points, 0 at "
             f"measured ones; median {np.median(sd):.3g} um, largest {sd.max():.3g} um)")
+    if band_out is not None:
+        offset = heights.meta.get("offset")
+        band_offset = None if offset is None else (*tuple(offset)[:2], 0.0)
+        how = ("calibrated by the self-check" if result.self_check is not None
+               else "Gaussian, no self-check")
+        write_heights(band_out, result.band, spacing,
+                      comment + f"; this file: the half-width of the 95 % band of a new "
+                      f"measurement, {result.band_factor:.3g} sd ({how})",
+                      source={**heights.meta, "offset": band_offset})
+        err(f"wrote {band_out} (the 95 % band's half-width at the filled points: "
+            f"{result.band_factor:.3g} predictive sd, {how}; 0 at measured ones)")
     return 0

@@ -7,9 +7,9 @@ model can interpolate them. This module is the one computation behind the book's
 * :func:`gap_scenario`: a ground surface of eq 18 (latent :math:`g`) and its measurement
   :math:`z = g + \varepsilon` (eq 8), with three kinds of holes: scattered dropouts, a scratch
   (a line 3 points wide across the surface) and a blob (an ellipse, like a steep flank);
-* :func:`interpolate_baseline`: nearest, linear (Delaunay) and cubic (Clough-Tocher)
-  interpolation of the measured points, restricted to a window (a Delaunay triangulation of a
-  regular grid is slow);
+* :func:`~roughgp.beyond.interpolants.interpolate_baseline` (imported here): nearest, linear
+  (Delaunay) and cubic (Clough-Tocher) interpolation of the measured points, restricted to a
+  window (a Delaunay triangulation of a regular grid is slow);
 * :func:`compare_gap_filling`: the GP posterior mean and sd
   (:func:`roughgp.beyond.gap_filling.fill_gaps`) with the known hyperparameters and with those
   fitted to the measured points alone (:func:`roughgp.inference.block_fit.fit_ground_to_valid_points`,
@@ -25,15 +25,13 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import time
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.interpolate
-import scipy.spatial
 import scipy.stats
 
 from roughgp.beyond.gap_filling import GapFill, fill_gaps
+from roughgp.beyond.interpolants import INTERPOLANTS, Baseline, interpolate_baseline
 from roughgp.common.checks import check_integer
 from roughgp.inference.block_fit import BlockFit, fit_ground_to_valid_points
 from roughgp.models import surfaces
@@ -51,7 +49,6 @@ N_SAMPLES = 16              #: pathwise draws for the posterior sd
 SEED = 11
 #: Where the interpolants are compared: (row, column) ranges as shares of the grid side.
 WINDOW = ((0.2, 0.8), (0.15, 0.55))
-INTERPOLANTS = ("nearest", "linear", "cubic")
 HOLE_KINDS = ("scratch", "blob", "dropouts")
 
 
@@ -81,25 +78,6 @@ class GapScenario:
     measured: np.ndarray
     ground: surfaces.GrooveParameters
     noise_variance: float
-
-
-@dataclass(frozen=True)
-class Baseline:
-    """Classical interpolation of the missing points of a window (:func:`interpolate_baseline`).
-
-    Attributes:
-        evaluate: boolean map of the points scored (missing and inside the window).
-        values: ``{method: heights at the evaluate points}`` for :data:`INTERPOLANTS`.
-        seconds: ``{method: wall time}`` (the triangulation not included).
-        delaunay_seconds: wall time of the Delaunay triangulation (shared by linear and cubic).
-        n_window: points in the window.
-    """
-
-    evaluate: np.ndarray
-    values: dict
-    seconds: dict
-    delaunay_seconds: float
-    n_window: int
 
 
 @dataclass(frozen=True)
@@ -164,46 +142,6 @@ def window_slices(n, window=WINDOW):
     """The window ``((r0, r1), (c0, c1))`` (shares of the side) as a pair of slices."""
     (r0, r1), (c0, c1) = window
     return np.s_[int(r0 * n):int(r1 * n), int(c0 * n):int(c1 * n)]
-
-
-def _interpolant(method, points, values, triangulation):
-    if method == "nearest":
-        return scipy.interpolate.NearestNDInterpolator(points, values)
-    if method == "linear":
-        return scipy.interpolate.LinearNDInterpolator(triangulation, values)
-    return scipy.interpolate.CloughTocher2DInterpolator(triangulation, values)
-
-
-def interpolate_baseline(z, missing, window, *, margin=12) -> Baseline:
-    """Nearest, linear and cubic interpolation (what ``scipy.interpolate.griddata`` does, with
-    one triangulation for both) of the missing points inside ``window`` (a pair of slices),
-    from the measured points of the window plus ``margin`` points around it. Points outside the
-    convex hull get the nearest value."""
-    rows, cols = window
-    iy, ix = np.indices(z.shape)
-    outer = np.s_[max(rows.start - margin, 0):rows.stop + margin,
-                  max(cols.start - margin, 0):cols.stop + margin]
-    inner = np.zeros(z.shape, dtype=bool)
-    inner[window] = True
-    use = np.zeros(z.shape, dtype=bool)
-    use[outer] = True
-    use &= ~missing
-    points = np.column_stack([iy[use], ix[use]]).astype(float)
-    heights = z[use]
-    evaluate = missing & inner
-    targets = np.column_stack([iy[evaluate], ix[evaluate]]).astype(float)
-    start = time.perf_counter()
-    triangulation = scipy.spatial.Delaunay(points)
-    delaunay_seconds = time.perf_counter() - start
-    values, seconds = {}, {}
-    for method in INTERPOLANTS:
-        start = time.perf_counter()
-        got = _interpolant(method, points, heights, triangulation)(targets)
-        outside = np.isnan(got)
-        got[outside] = scipy.interpolate.NearestNDInterpolator(points, heights)(targets[outside])
-        values[method] = got
-        seconds[method] = time.perf_counter() - start
-    return Baseline(evaluate, values, seconds, delaunay_seconds, int(inner.sum()))
 
 
 def rmse_by_region(estimate, truth, regions):

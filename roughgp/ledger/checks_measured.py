@@ -62,16 +62,18 @@ def check_land_model(full):
 
 
 def _score(cv):
-    """The chapter's judgement of one file: (GP < cubic, GP < linear, coverage)."""
-    return cv.rmse["GP"] < cv.rmse["cubic"], cv.rmse["GP"] < cv.rmse["linear"], cv.coverage
+    """The judgement of one file: (GP < cubic, GP < linear, calibrated coverage)."""
+    return cv.rmse["GP"] < cv.rmse["cubic"], cv.rmse["GP"] < cv.rmse["linear"], \
+        cv.calibrated_coverage
 
 
 def check_measured_fill(full):
     """Cross-validated fill on real measurements: 2 % of the measured points hidden in small
-    discs, filled by the GP (eq 18 fitted without them) and by linear and cubic interpolation;
-    the GP's RMSE and the coverage of its +-2 sd band. Quick: the Wyko file opd-1 (not used in
-    the fill's development), its central 160 x 160 points; full: the chapter's three files
-    with its assertions."""
+    discs, filled by the GP (fitted without them; its smoothness and band from the fill's
+    self-check on other measured points) and by linear and cubic interpolation; the GP's RMSE
+    and the coverage of its calibrated band. Quick: the Wyko file opd-1, its central 160 x 160
+    points; full: the chapter's four files with its verdicts
+    (:func:`~roughgp.experiments.measured_surfaces.fill_verdicts`)."""
     from roughgp.experiments import measured_surfaces as ms
     if full:
         cvs = {name: ms.cross_validated_fill(name, form=form, seed=0)
@@ -84,9 +86,11 @@ def check_measured_fill(full):
         (cv,) = cvs.values()
         better_cubic, better_linear, coverage = _score(cv)
         holds = better_cubic and better_linear and abs(coverage - 0.95) < 0.03
-    text = "; ".join(f"{name}: RMSE GP {cv.rmse['GP']:.3g}, linear {cv.rmse['linear']:.3g}, "
-                     f"cubic {cv.rmse['cubic']:.3g} um at {int(cv.hidden.sum())} hidden points, "
-                     f"+-2 sd covers {cv.coverage:.1%}" for name, cv in cvs.items())
+    text = "; ".join(f"{name}: RMSE GP (nu {cv.nu:g}) {cv.rmse['GP']:.3g}, linear "
+                     f"{cv.rmse['linear']:.3g}, cubic {cv.rmse['cubic']:.3g} um at "
+                     f"{int(cv.hidden.sum())} hidden points, the calibrated band "
+                     f"(+-{cv.band_factor:.2f} sd) covers {cv.calibrated_coverage:.1%}"
+                     for name, cv in cvs.items())
     return Check(text, bool(holds), _fill_figure(cvs))
 
 
@@ -99,8 +103,9 @@ def _fill_figure(cvs):
         ax.bar(np.arange(len(cvs)) + i * width,
                [cv.rmse[method] / cv.rmse["linear"] for cv in cvs.values()], width,
                label=method)
-    ax.set_xticks(np.arange(len(cvs)) + width, [f"{k}\n{cv.coverage:.1%} in +-2 sd"
-                                                for k, cv in cvs.items()], fontsize=7)
+    ax.set_xticks(np.arange(len(cvs)) + width,
+                  [f"{k}\n{cv.calibrated_coverage:.1%} in +-{cv.band_factor:.2f} sd"
+                   for k, cv in cvs.items()], fontsize=7)
     ax.set(ylabel="RMSE at hidden points / linear's", title="cross-validated fill")
     ax.legend(fontsize=7)
     fig.tight_layout()

@@ -346,7 +346,7 @@ def test_fill_writes_the_filled_surface_and_its_sd(capsys, tmp_path):
     code, _, err = _run(capsys, "fill", path, "--out", out, "--sd", sd, "--block", 12,
                         "--blocks", 6, "--samples", 4, "--seed", 1)
     assert code == 0, err
-    assert "eq 18 fitted on" in err and "missing (" in err
+    assert "eq 18 fitted and self-checked on" in err and "missing (" in err
     filled, spread = np.load(out), np.load(sd)
     missing = np.isnan(z)
     assert filled.shape == z.shape and np.all(np.isfinite(filled))
@@ -356,7 +356,29 @@ def test_fill_writes_the_filled_surface_and_its_sd(capsys, tmp_path):
     assert np.all(spread[~missing] == 0) and np.all(spread[missing] > 0)
 
 
+def test_fill_checks_itself_chooses_nu_and_writes_the_calibrated_band(capsys, tmp_path):
+    path, z = _holed_surface(tmp_path)
+    out, band = tmp_path / "filled.npy", tmp_path / "band.npy"
+    code, _, err = _run(capsys, "fill", path, "--out", out, "--band", band, "--nu", "auto",
+                        "--block", 12, "--blocks", 6, "--seed", 1)
+    assert code == 0, err
+    checks = [line for line in err.splitlines() if line.startswith("self-check: ")]
+    assert len(checks) == 3 and sum("<- used" in line for line in checks) == 1
+    assert all("measured points held out and filled" in line for line in checks)
+    half = np.load(band)
+    missing = np.isnan(z)
+    assert np.all(half[~missing] == 0) and np.all(half[missing] > 0)
+    assert "calibrated by the self-check" in err
+    # --no-check: no self-check, the Gaussian band
+    code, _, err = _run(capsys, "fill", path, "--out", tmp_path / "plain.npy", "--band",
+                        tmp_path / "plain-band.npy", "--no-check", "--block", 12, "--blocks", 6)
+    assert code == 0, err
+    assert "self-check: " not in err and "1.96 predictive sd, Gaussian, no self-check" in err
+
+
 @pytest.mark.parametrize("extra, message", [
+    (("--nu", "auto", "--no-check"), "--nu auto chooses by the self-check"),
+    (("--nu", "0.7"), "invalid choice: '0.7'"),
     (("--method", "global", "--samples", "1", "--sd", "SD"), "--sd needs --samples >= 2"),
     (("--samples", "-1"), "--samples must be in [0, 256]"),
     (("--samples", "100000"), "--samples must be in [0, 256]"),

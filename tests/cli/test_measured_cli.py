@@ -88,6 +88,8 @@ def test_fill_with_the_model_file(capsys, tmp_path, land_model):
     (("fit", "ground", "LAND", "--block", 2), "--block must be in [4, 64]"),
     (("fit", "profile", "LAND", "--mixtures", 1000), "--mixtures must be in [1, 50]"),
     (("fill", "LAND", "--out", "f.npy", "--model", "NOTMODEL"), "not a roughgp model file"),
+    (("fill", "LAND", "--out", "f.npy", "--model", "MODEL", "--nu", "auto"),
+     "--nu auto chooses the smoothness of a fit; --model has its own"),
 ])
 def test_model_commands_refuse_bad_input(capsys, tmp_path, land_model, argv, message):
     bogus = tmp_path / "bogus.json"

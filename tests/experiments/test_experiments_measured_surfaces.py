@@ -28,16 +28,30 @@ def test_the_chapter_files_exist():
         assert (ms.DATA / name).is_file()
 
 
-def test_the_difference_ratio_tells_white_noise_a_random_walk_and_a_smooth_surface():
+def test_the_increment_kurtosis_is_three_for_a_gaussian_surface_and_large_with_spikes():
     import numpy as np
+    import scipy.ndimage
 
     rng = np.random.default_rng(0)
-    white = rng.normal(size=(300, 300))
-    # a random walk along each axis (independent increments both ways; over 300 of them the
-    # ratio scatters by about 3 %)
-    walk = np.cumsum(rng.normal(size=300))[:, None] + np.cumsum(rng.normal(size=300))[None, :]
-    y, x = np.mgrid[0:300, 0:300]
-    smooth = np.sin(x / 15.0) * np.cos(y / 20.0)
-    assert ms.difference_ratio(white) == pytest.approx(np.sqrt(3), rel=0.02)
-    assert ms.difference_ratio(walk) == pytest.approx(np.sqrt(2), rel=0.05)
-    assert ms.difference_ratio(smooth) < 0.1
+    # a stationary Gaussian surface with correlated heights: Gaussian increments (kurtosis 3)
+    smooth = scipy.ndimage.gaussian_filter(rng.normal(size=(300, 300)), 4.0)
+    assert ms.increment_kurtosis(smooth) == pytest.approx(3.0, abs=0.15)
+    spiky = smooth.copy()
+    spiky[rng.integers(0, 300, 30), rng.integers(0, 300, 30)] += 20 * smooth.std()  # 30 spikes
+    assert ms.increment_kurtosis(spiky) > 30
+    spiky[0, 0] = np.nan                                                  # NaN are left out
+    assert np.isfinite(ms.increment_kurtosis(spiky))
+
+
+def test_largest_errors_share_and_median_abs_of_a_cross_validation():
+    import numpy as np
+
+    truth = np.zeros(100)
+    gp = np.full(100, 0.1)
+    gp[0] = 10.0                                  # one point carries almost all squared error
+    cv = ms.CrossValidation("x", np.ones(100, bool), truth, {"GP": gp, "linear": gp * 0 + 0.2},
+                            np.ones(100), {}, 0.0, {}, 0.0, 0.5, 2.0, 0.95, {})
+    assert cv.largest_errors_share("GP", top=0.01) == pytest.approx(100 / (100 + 99 * 0.01))
+    assert cv.median_abs == {"GP": pytest.approx(0.1), "linear": pytest.approx(0.2)}
+    assert cv.worse_tail() == pytest.approx(0.01)          # only the one large error is worse
+    assert cv.worse_tail("linear", "GP") == 0.0

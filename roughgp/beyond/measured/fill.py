@@ -6,9 +6,9 @@ curved part), fit eq 18 plus white noise (eq 8) on the measured points alone
 (:func:`roughgp.inference.block_fit.fit_ground_to_valid_points`) or take the hyperparameters of
 a fitted model (:class:`~roughgp.beyond.measured.model.FittedModel`), fill the missing points
 with the GP posterior mean and sd of the form-removed surface, and add the form back, so that
-the filled map is in the measurement's own heights. The fill works on the form-removed heights only: a model
-fitted after S- or L-filters describes filtered heights, so its filters are not applied here
-(the fill is of the measurement, not of its roughness).
+the filled map is in the measurement's own heights. The fill works on the form-removed heights
+only: a model fitted after S- or L-filters describes filtered heights, so its filters are not
+applied here (the fill is of the measurement, not of its roughness).
 
 Two solvers: ``method="local"`` (the default) is moving-window kriging
 (:func:`roughgp.beyond.local_fill.fill_gaps_locally`): bounded work, an exact sd for each
@@ -17,6 +17,15 @@ lengths may exceed the field and whose noise may be near zero. ``method="global"
 all measured points (:func:`roughgp.beyond.gap_filling.fill_gaps`: conjugate gradients and
 pathwise draws for the sd), best for synthetic, well-conditioned cases; its CG may not
 converge on such measurements (``gaps.converged`` says so).
+
+``self_check=True`` holds out 2 % of the measured points first (at most 2000), fits
+without them, fills them and compares with their heights and with linear interpolation
+(:mod:`roughgp.beyond.measured.self_check`): it says whether the fill beats linear
+interpolation on this file and calibrates the band (:attr:`MeasuredFill.band_factor`).
+``nu="auto"`` does that for each of ``NU_CHOICES`` and keeps the smoothness that fills the
+held-out points best (eq 18 unless another is clearly better:
+:func:`~roughgp.beyond.measured.self_check.choose_nu`). The fill itself then uses all
+measured points.
 """
 
 from __future__ import annotations
@@ -28,6 +37,16 @@ import numpy as np
 from roughgp.beyond.gap_filling import GapFill, fill_gaps
 from roughgp.beyond.local_fill import LocalFill, fill_gaps_locally
 from roughgp.beyond.measured.model import FittedModel
+from roughgp.beyond.measured.self_check import (
+    CHECK_SHARE,
+    GAUSSIAN_FACTOR,
+    MIN_CHECK_POINTS,
+    NU_CHOICES,
+    FillSelfCheck,
+    choose_nu,
+    held_out_points,
+    self_check_fill,
+)
 from roughgp.common.grid import normalize
 from roughgp.inference.block_fit import BlockFit, fit_ground_to_valid_points
 from roughgp.metrology.form import FormFit, form_heights, remove_form
@@ -52,6 +71,9 @@ class MeasuredFill:
             :class:`~roughgp.beyond.local_fill.LocalFill` (``method="local"``) or a
             :class:`~roughgp.beyond.gap_filling.GapFill` (``"global"``).
         method: ``"local"`` or ``"global"``.
+        nu: the smoothness of the kernel used (the fitted or the model's).
+        self_checks: ``{nu: FillSelfCheck}`` of the smoothness values checked (empty without
+            a self-check); self_check: that of ``nu`` (None without).
     """
 
     filled: np.ndarray
@@ -63,12 +85,30 @@ class MeasuredFill:
     noise_variance: float
     gaps: LocalFill | GapFill
     method: str = "local"
+    nu: float = 0.5
+    self_checks: dict = dataclasses.field(default_factory=dict)
+
+    @property
+    def self_check(self) -> FillSelfCheck | None:
+        return self.self_checks.get(self.nu)
+
+    @property
+    def band_factor(self) -> float:
+        """:math:`k` of the 95 % band ``+- k sqrt(sd^2 + sigma^2)`` of a new measurement at a
+        filled point: calibrated by the self-check where there was one, else Gaussian (1.96)."""
+        return GAUSSIAN_FACTOR if self.self_check is None else self.self_check.band_factor
+
+    @property
+    def band(self) -> np.ndarray:
+        """The half-width of that band at the filled points (0 at measured ones)."""
+        return np.where(self.missing, self.band_factor
+                        * np.sqrt(self.sd ** 2 + self.noise_variance), 0.0)
 
 
 def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, n_blocks=12,
                           form="plane", degree=2, axis="auto", model=None,
-                          mask=None, method="local", tile=24, margin=6, nu=0.5,
-                          device=None) -> MeasuredFill:
+                          mask=None, method="local", tile=16, margin=6, nu=0.5,
+                          self_check=False, device=None) -> MeasuredFill:
     """Remove the form, fit eq 18 on the measured points (or use ``model``), fill the NaN
     (and ``mask``-ed) points, add the form back.
 
@@ -83,7 +123,10 @@ def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, 
         form, degree, axis: the F-operator (:func:`~roughgp.metrology.form.remove_form`).
         model: a :class:`~roughgp.beyond.measured.model.FittedModel` of a surface (eq 18 or
             its Matérn variant) whose kernel and noise are used instead of a fit.
-        nu: the smoothness of the fit when no model is given (0.5: eq 18; 1.5, 2.5: Matérn).
+        nu: the smoothness of the fit when no model is given (0.5: eq 18; 1.5, 2.5: Matérn;
+            ``"auto"``: the self-check's choice among ``NU_CHOICES``).
+        self_check: hold out measured points first and check the fill on them (module
+            docstring); implied by ``nu="auto"``. It uses the local solver whatever ``method``.
         mask: optional boolean map: measured points to treat as missing as well (e.g. to hide
             them for a cross-validation).
         method: ``"local"`` (moving-window kriging, ``tile`` and ``margin`` in points) or
@@ -106,16 +149,43 @@ def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, 
         raise ValueError(f"method must be 'local' or 'global', got {method!r}")
     if model is not None and (not isinstance(model, FittedModel) or model.kind != "surface"):
         raise ValueError("model must be a FittedModel of a surface (eq 18)")
+    if nu != "auto" and nu not in NU_CHOICES:
+        raise ValueError(f"nu must be one of {NU_CHOICES} or 'auto', got {nu!r}")
+    if nu == "auto" and model is not None:
+        raise ValueError("nu='auto' chooses the smoothness of a fit; a model has its own")
     _, (dy, dx) = normalize(z.shape, spacing)
     residual, form_fit = remove_form(np.where(missing, np.nan, z), (dy, dx), form,
                                      degree=degree, axis=axis)
-    fit = None
+    measured = np.isfinite(residual)
+    held_out = held_out_points(measured, seed) if (self_check or nu == "auto") else None
+    if nu == "auto" and held_out is None:
+        raise ValueError(f"nu='auto' needs a self-check, and {int(measured.sum())} measured "
+                         f"points are too few to hold some out (at least "
+                         f"{MIN_CHECK_POINTS / CHECK_SHARE:.0f} are needed)")
+    fitted = np.where(held_out, np.nan, residual) if held_out is not None else residual
+    fit, checks = None, {}
     if model is None:
-        fit = fit_ground_to_valid_points(residual, spacing=(dy, dx), block=block,
-                                         n_blocks=n_blocks, seed=seed, nu=nu)
+        fits = {}
+        for smoothness in (NU_CHOICES if nu == "auto" else (nu,)):
+            # nu="auto": eq 18's optimum joins the Matern fits' starts (two optimisations each)
+            fits[smoothness] = fit_ground_to_valid_points(
+                fitted, spacing=(dy, dx), block=block, n_blocks=n_blocks, seed=seed,
+                nu=smoothness, start=fits.get(0.5) if smoothness != 0.5 else None)
+            if held_out is not None:
+                checks[smoothness] = self_check_fill(
+                    residual, fits[smoothness].kernel,
+                    noise_variance=fits[smoothness].noise_variance, spacing=(dy, dx),
+                    held_out=held_out, nu=smoothness, margin=margin)
+        nu = choose_nu(checks) if nu == "auto" else nu
+        fit = fits[nu]
         kernel, noise_variance = fit.kernel, fit.noise_variance
     else:
         kernel, noise_variance = model.kernel(), model.noise_variance
+        nu = float(model.hyperparameters.get("nu", 0.5))
+        if held_out is not None:
+            checks[nu] = self_check_fill(residual, kernel, noise_variance=noise_variance,
+                                         spacing=(dy, dx), held_out=held_out, nu=nu,
+                                         margin=margin)
     if method == "local":
         gaps = fill_gaps_locally(residual, kernel, noise_variance=noise_variance,
                                  spacing=(dy, dx), mask=mask, tile=tile, margin=margin)
@@ -127,4 +197,4 @@ def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, 
     sd = np.where(missing, gaps.sd, 0.0)
     return MeasuredFill(filled=filled, sd=sd, missing=missing, form=form_fit, fit=fit,
                         kernel=kernel, noise_variance=float(noise_variance), gaps=gaps,
-                        method=method)
+                        method=method, nu=float(nu), self_checks=checks)

@@ -1,0 +1,106 @@
+"""Classical interpolation of missing points: the baseline a GP fill must beat (beyond the paper).
+
+:func:`interpolate_baseline` is what ``scipy.interpolate.griddata`` does, nearest neighbour,
+linear on the Delaunay triangulation and cubic (Clough-Tocher), with one triangulation for
+linear and cubic, restricted to a window of the grid plus a margin (a Delaunay triangulation of
+a whole regular grid is slow); :func:`interpolate_holes` does it per hole, for small scattered
+holes (one small triangulation each). The chapters "Filling unmeasured points" and "Measured
+surfaces" and the fill's self-check (:mod:`roughgp.beyond.measured.self_check`) compare the GP
+with it.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.interpolate
+import scipy.ndimage
+import scipy.spatial
+
+__all__ = ["INTERPOLANTS", "Baseline", "interpolate_baseline", "interpolate_holes"]
+
+INTERPOLANTS = ("nearest", "linear", "cubic")
+
+
+@dataclass(frozen=True)
+class Baseline:
+    """Classical interpolation of the missing points of a window (:func:`interpolate_baseline`).
+
+    Attributes:
+        evaluate: boolean map of the points scored (missing and inside the window).
+        values: ``{method: heights at the evaluate points}`` for :data:`INTERPOLANTS`.
+        seconds: ``{method: wall time}`` (the triangulation not included).
+        delaunay_seconds: wall time of the Delaunay triangulation (shared by linear and cubic).
+        n_window: points in the window.
+    """
+
+    evaluate: np.ndarray
+    values: dict
+    seconds: dict
+    delaunay_seconds: float
+    n_window: int
+
+
+def _interpolant(method, points, values, triangulation):
+    if method == "nearest":
+        return scipy.interpolate.NearestNDInterpolator(points, values)
+    if method == "linear":
+        return scipy.interpolate.LinearNDInterpolator(triangulation, values)
+    return scipy.interpolate.CloughTocher2DInterpolator(triangulation, values)
+
+
+def interpolate_baseline(z, missing, window, *, margin=12,
+                         methods=INTERPOLANTS) -> Baseline:
+    """Nearest, linear and cubic interpolation (what ``scipy.interpolate.griddata`` does, with
+    one triangulation for both) of the missing points inside ``window`` (a pair of slices),
+    from the measured points of the window plus ``margin`` points around it. Points outside the
+    convex hull get the nearest value. ``methods``: a subset of :data:`INTERPOLANTS`."""
+    unknown = set(methods) - set(INTERPOLANTS)
+    if unknown or not methods:
+        raise ValueError(f"methods must be a non-empty subset of {INTERPOLANTS}, got {methods!r}")
+    rows, cols = window
+    iy, ix = np.indices(z.shape)
+    outer = np.s_[max(rows.start - margin, 0):rows.stop + margin,
+                  max(cols.start - margin, 0):cols.stop + margin]
+    inner = np.zeros(z.shape, dtype=bool)
+    inner[window] = True
+    use = np.zeros(z.shape, dtype=bool)
+    use[outer] = True
+    use &= ~missing
+    points = np.column_stack([iy[use], ix[use]]).astype(float)
+    heights = z[use]
+    evaluate = missing & inner
+    targets = np.column_stack([iy[evaluate], ix[evaluate]]).astype(float)
+    start = time.perf_counter()
+    triangulation = scipy.spatial.Delaunay(points)
+    delaunay_seconds = time.perf_counter() - start
+    values, seconds = {}, {}
+    for method in methods:
+        start = time.perf_counter()
+        got = _interpolant(method, points, heights, triangulation)(targets)
+        outside = np.isnan(got)
+        got[outside] = scipy.interpolate.NearestNDInterpolator(points, heights)(targets[outside])
+        values[method] = got
+        seconds[method] = time.perf_counter() - start
+    return Baseline(evaluate, values, seconds, delaunay_seconds, int(inner.sum()))
+
+
+def interpolate_holes(z, holes, *, margin=6, methods=INTERPOLANTS) -> dict:
+    """``{method: heights at the points of holes}`` (in ``z[holes]``'s order): each connected
+    hole of the boolean map ``holes`` interpolated from the measured points (finite and not in
+    ``holes``) of its bounding box plus ``margin`` points around, by
+    :func:`interpolate_baseline`. For small scattered holes this is far quicker than one
+    triangulation of the grid, and it agrees with it but where a grid's cocircular points make
+    Delaunay's choice of diagonal arbitrary."""
+    holes = np.asarray(holes, dtype=bool)
+    missing = ~np.isfinite(z) | holes
+    masked = np.where(missing, np.nan, z)
+    out = {method: np.full(z.shape, np.nan) for method in methods}
+    labels, _ = scipy.ndimage.label(holes)
+    for window in scipy.ndimage.find_objects(labels):
+        base = interpolate_baseline(masked, missing, window, margin=margin, methods=methods)
+        for method in methods:
+            out[method][base.evaluate] = base.values[method]
+    return {method: values[holes] for method, values in out.items()}
