@@ -165,13 +165,13 @@ def land_check(land: Measurement, fit: SurfaceModelFit, *, seed=0,
 
 def bullet_land(*, seed=0, n_simulations=19, l_filter=LAND_L_FILTER, fill=True) -> LandResult:
     """Fit (eq 18, :func:`land_fit`), simulate, check (:func:`land_check`) and fill the bullet
-    land (module docstring); ``fill=False`` leaves out the fill of its real holes
-    (``LandResult.fill`` is then None)."""
+    land (module docstring; the fill with its self-check); ``fill=False`` leaves out the fill of
+    its real holes (``LandResult.fill`` is then None)."""
     land, fit = land_fit(seed=seed, l_filter=l_filter)
     simulation = fit.model.simulate(land.z.shape, seed=seed + 1)
     check = land_check(land, fit, seed=seed, n_simulations=n_simulations)
-    filled = (fill_measured_surface(land.z, spacing=land.spacing, form="cylinder", seed=seed)
-              if fill else None)
+    filled = (fill_measured_surface(land.z, spacing=land.spacing, form="cylinder", seed=seed,
+                                    self_check=True) if fill else None)
     return LandResult(land, fit, simulation, check, filled)
 
 
