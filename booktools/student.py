@@ -39,7 +39,7 @@ import nbformat
 
 ROOT = Path(__file__).resolve().parents[1]
 BOOK = ROOT / "book"
-LABS = BOOK / "labs"
+LABS = ROOT / "notebooks"
 OUT = BOOK / "_build" / "student"
 
 _START = re.compile(r"^:::\{solution-start\}\s+(\S+)", re.M)

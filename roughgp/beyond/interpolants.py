@@ -61,18 +61,18 @@ def interpolate_baseline(z, missing, window, *, margin=12,
     if unknown or not methods:
         raise ValueError(f"methods must be a non-empty subset of {INTERPOLANTS}, got {methods!r}")
     rows, cols = window
-    iy, ix = np.indices(z.shape)
-    outer = np.s_[max(rows.start - margin, 0):rows.stop + margin,
-                  max(cols.start - margin, 0):cols.stop + margin]
-    inner = np.zeros(z.shape, dtype=bool)
-    inner[window] = True
-    use = np.zeros(z.shape, dtype=bool)
-    use[outer] = True
-    use &= ~missing
+    r0, c0 = max(rows.start - margin, 0), max(cols.start - margin, 0)
+    outer = np.s_[r0:rows.stop + margin, c0:cols.stop + margin]
+    # the work stays in the outer window (a hole's box, not the grid), in grid coordinates
+    iy, ix = np.indices(z[outer].shape)
+    iy, ix = iy + r0, ix + c0
+    use = ~missing[outer]
     points = np.column_stack([iy[use], ix[use]]).astype(float)
-    heights = z[use]
-    evaluate = missing & inner
-    targets = np.column_stack([iy[evaluate], ix[evaluate]]).astype(float)
+    heights = z[outer][use]
+    evaluate = np.zeros(z.shape, dtype=bool)
+    evaluate[window] = missing[window]
+    here = evaluate[outer]
+    targets = np.column_stack([iy[here], ix[here]]).astype(float)
     start = time.perf_counter()
     triangulation = scipy.spatial.Delaunay(points)
     delaunay_seconds = time.perf_counter() - start
@@ -84,7 +84,7 @@ def interpolate_baseline(z, missing, window, *, margin=12,
         got[outside] = scipy.interpolate.NearestNDInterpolator(points, heights)(targets[outside])
         values[method] = got
         seconds[method] = time.perf_counter() - start
-    return Baseline(evaluate, values, seconds, delaunay_seconds, int(inner.sum()))
+    return Baseline(evaluate, values, seconds, delaunay_seconds, int(evaluate[window].size))
 
 
 def interpolate_holes(z, holes, *, margin=6, methods=INTERPOLANTS) -> dict:

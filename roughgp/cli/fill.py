@@ -186,25 +186,24 @@ def run(args) -> int:
     write_heights(out, result.filled, spacing, comment, source=heights.meta)
     err(f"wrote {out} (the measured heights, the {missing.sum()} missing ones filled by the "
         f"posterior mean)")
+    offset = heights.meta.get("offset")  # an sd or a band is no height: no z offset
+    spread_source = {**heights.meta,
+                     "offset": None if offset is None else (*tuple(offset)[:2], 0.0)}
     if sd_out is not None:
-        offset = heights.meta.get("offset")  # an sd is no height: no z offset
-        sd_offset = None if offset is None else (*tuple(offset)[:2], 0.0)
         write_heights(sd_out, result.sd, spacing,
                       comment + "; this file: the posterior sd"
                       + (f" ({samples} draws)" if args.method == "global" else ""),
-                      source={**heights.meta, "offset": sd_offset})
+                      source=spread_source)
         sd = result.sd[missing]
         err(f"wrote {sd_out} (posterior sd of the latent surface at the filled points, 0 at "
             f"measured ones; median {np.median(sd):.3g} um, largest {sd.max():.3g} um)")
     if band_out is not None:
-        offset = heights.meta.get("offset")
-        band_offset = None if offset is None else (*tuple(offset)[:2], 0.0)
         how = ("calibrated by the self-check" if result.self_check is not None
                else "Gaussian, no self-check")
         write_heights(band_out, result.band, spacing,
                       comment + f"; this file: the half-width of the 95 % band of a new "
                       f"measurement, {result.band_factor:.3g} sd ({how})",
-                      source={**heights.meta, "offset": band_offset})
+                      source=spread_source)
         err(f"wrote {band_out} (the 95 % band's half-width at the filled points: "
             f"{result.band_factor:.3g} predictive sd, {how}; 0 at measured ones)")
     return 0

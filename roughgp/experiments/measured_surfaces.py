@@ -37,7 +37,7 @@ from roughgp.beyond.measured.fit import (
     fit_profile_model,
     fit_surface_model,
 )
-from roughgp.beyond.measured.self_check import hide_discs
+from roughgp.beyond.measured.self_check import hide_discs, median_abs_of, rmse_of
 from roughgp.metrology.form import remove_form
 from roughgp.metrology.measurement import Measurement, read_measurement
 
@@ -121,7 +121,7 @@ class CrossValidation:
     @property
     def median_abs(self) -> dict:
         """``{method: median absolute error at the hidden points}``."""
-        return {k: float(np.median(np.abs(v - self.truth))) for k, v in self.estimates.items()}
+        return median_abs_of(self.estimates, self.truth)
 
     def worse_tail(self, method="GP", than="linear") -> float:
         """The share of the hidden points, counted from the largest errors down, over which
@@ -229,8 +229,8 @@ def cross_validated_fill(name=LAND_FILE, *, share=0.02, seed=0, form="cylinder",
     seconds = {"GP": time.perf_counter() - start, "linear and cubic": baseline_seconds}
     truth = z[hidden]
     estimates = {"GP": gp.filled[hidden], **baseline}
-    sd = np.sqrt(gp.sd[hidden] ** 2 + gp.noise_variance)
-    rmse = {k: float(np.sqrt(np.mean((v - truth) ** 2))) for k, v in estimates.items()}
+    sd = gp.predictive_sd[hidden]
+    rmse = rmse_of(estimates, truth)
     inside = np.abs(estimates["GP"] - truth) / sd
     return CrossValidation(name, hidden, truth, estimates, sd, rmse, float(np.mean(inside <= 2)),
                            seconds, float(gp.fit.log_likelihood), gp.nu, gp.band_factor,

@@ -45,6 +45,7 @@ from roughgp.beyond.measured.self_check import (
     FillSelfCheck,
     choose_nu,
     held_out_points,
+    predictive_sd,
     self_check_fill,
 )
 from roughgp.common.grid import normalize
@@ -99,10 +100,15 @@ class MeasuredFill:
         return GAUSSIAN_FACTOR if self.self_check is None else self.self_check.band_factor
 
     @property
+    def predictive_sd(self) -> np.ndarray:
+        """The sd of a new measurement at the filled points, ``sqrt(sd^2 + sigma^2)`` (0 at
+        measured ones)."""
+        return np.where(self.missing, predictive_sd(self.sd, self.noise_variance), 0.0)
+
+    @property
     def band(self) -> np.ndarray:
         """The half-width of that band at the filled points (0 at measured ones)."""
-        return np.where(self.missing, self.band_factor
-                        * np.sqrt(self.sd ** 2 + self.noise_variance), 0.0)
+        return np.where(self.missing, self.band_factor * self.predictive_sd, 0.0)
 
 
 def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, n_blocks=12,
@@ -162,15 +168,14 @@ def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, 
         raise ValueError(f"nu='auto' needs a self-check, and {int(measured.sum())} measured "
                          f"points are too few to hold some out (at least "
                          f"{MIN_CHECK_POINTS / CHECK_SHARE:.0f} are needed)")
-    fitted = np.where(held_out, np.nan, residual) if held_out is not None else residual
     fit, checks = None, {}
     if model is None:
         fits = {}
         for smoothness in (NU_CHOICES if nu == "auto" else (nu,)):
             # nu="auto": eq 18's optimum joins the Matern fits' starts (two optimisations each)
             fits[smoothness] = fit_ground_to_valid_points(
-                fitted, spacing=(dy, dx), block=block, n_blocks=n_blocks, seed=seed,
-                nu=smoothness, start=fits.get(0.5) if smoothness != 0.5 else None)
+                residual, spacing=(dy, dx), mask=held_out, block=block, n_blocks=n_blocks,
+                seed=seed, nu=smoothness, start=fits.get(0.5) if smoothness != 0.5 else None)
             if held_out is not None:
                 checks[smoothness] = self_check_fill(
                     residual, fits[smoothness].kernel,

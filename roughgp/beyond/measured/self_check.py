@@ -44,7 +44,8 @@ from roughgp.common.checks import as_generator
 
 __all__ = ["NU_CHOICES", "CHECK_POINTS", "CHECK_SHARE", "MIN_CHECK_POINTS", "LEVEL",
            "GAUSSIAN_FACTOR", "FillSelfCheck", "hide_discs", "held_out_share", "held_out_points",
-           "conformal_factor", "self_check_fill", "mse_difference", "choose_nu"]
+           "predictive_sd", "rmse_of", "median_abs_of", "conformal_factor", "self_check_fill",
+           "mse_difference", "choose_nu"]
 
 NU_CHOICES = (0.5, 1.5, 2.5)  #: the smoothness values ``nu="auto"`` chooses from
 CHECK_POINTS = 2000  #: at most this many measured points are held out ...
@@ -91,6 +92,22 @@ def held_out_points(measured, seed) -> np.ndarray | None:
     return hide_discs(measured, share, seed=stream)
 
 
+def predictive_sd(sd, noise_variance):
+    """The sd of a new measurement where the latent surface has posterior sd ``sd``:
+    :math:`\\sqrt{\\mathrm{sd}^2 + \\sigma^2}` (eq 8's noise added)."""
+    return np.sqrt(np.asarray(sd) ** 2 + noise_variance)
+
+
+def rmse_of(estimates: dict, truth) -> dict:
+    """``{method: RMSE of its estimates against truth}``."""
+    return {k: float(np.sqrt(np.mean((v - truth) ** 2))) for k, v in estimates.items()}
+
+
+def median_abs_of(estimates: dict, truth) -> dict:
+    """``{method: median absolute error of its estimates against truth}``."""
+    return {k: float(np.median(np.abs(v - truth))) for k, v in estimates.items()}
+
+
 def conformal_factor(scores, level=LEVEL) -> float:
     """The split-conformal quantile of ``scores`` (module docstring): the
     ``ceil((n + 1) level)``-th smallest; inf where ``n`` is too small for ``level``."""
@@ -126,13 +143,12 @@ class FillSelfCheck:
     @property
     def rmse(self) -> dict:
         """``{method: RMSE at the held-out points}``."""
-        return {k: float(np.sqrt(np.mean((v - self.truth) ** 2)))
-                for k, v in self.estimates.items()}
+        return rmse_of(self.estimates, self.truth)
 
     @property
     def median_abs(self) -> dict:
         """``{method: median absolute error at the held-out points}``."""
-        return {k: float(np.median(np.abs(v - self.truth))) for k, v in self.estimates.items()}
+        return median_abs_of(self.estimates, self.truth)
 
     def coverage(self, factor=2.0) -> float:
         """Share of the held-out heights within ``factor`` predictive sd of the GP's mean."""
@@ -170,7 +186,7 @@ def self_check_fill(residual, kernel, *, noise_variance, spacing, held_out, nu=0
                            mask=held_out, predict=held_out, tile=tile, margin=margin)
     linear = interpolate_holes(residual, held_out, methods=("linear",))["linear"]
     estimates = {"GP": gp.mean[held_out], "linear": linear}
-    sd = np.sqrt(gp.sd[held_out] ** 2 + noise_variance)
+    sd = predictive_sd(gp.sd[held_out], noise_variance)
     return FillSelfCheck(held_out, residual[held_out], estimates, sd, float(nu),
                          time.perf_counter() - start)
 
