@@ -29,7 +29,7 @@ book: $(STAMP)
 	@echo "book: open book/_build/html/index.html"
 
 test: $(STAMP)
-	$(BIN)/python -m pytest -n $(JOBS) --dist worksteal
+	$(BIN)/python -m pytest --nbmake -n $(JOBS) --dist worksteal
 
 student: $(STAMP)
 	$(BIN)/python -m booktools.student

@@ -1,22 +1,29 @@
-"""pytest: every chapter (``book/*.ipynb``) and every lab (``book/labs/*.ipynb``) is a test item.
+"""pytest: every chapter (``book/*.ipynb``) and every lab (``notebooks/*.ipynb``) is a test
+item, run by nbmake (``pytest --nbmake``; ``make test`` passes it).
 
-Each notebook is executed cell by cell (a failing cell, an assert of a claim among them, fails
-the test with its traceback) through the jupyter-cache that the book build reads
-(:mod:`booktools.notebook_cache`): the notebooks run once for both, and a notebook whose cells,
-library, lock and data are unchanged since its last successful run is not run again (the test
-says "cached"). ``make test`` on a fresh clone, as CI runs it, executes everything.
+nbmake executes each notebook cell by cell; a failing cell (an assert of a claim among them)
+fails the test with that cell and its traceback. Its run goes through the jupyter-cache that the
+book build reads (:mod:`booktools.notebook_cache`): the notebooks run once for both, and a
+notebook whose cells, library, lock and data are unchanged since its last successful run is not
+run again (the progress line says "cached"). A fresh clone, as CI runs it, executes everything.
 
-Each notebook item carries the marker ``notebook``: ``pytest -m "not notebook"`` runs the unit
-tier alone.
+What this file adds to nbmake: the marker ``notebook`` on each notebook item (``pytest -m "not
+notebook"`` runs the unit tier alone), one BLAS thread per test process when several run, the
+notebooks first and the longest first (dealt to xdist's workers), and one progress line per
+notebook as it starts and ends.
 """
 
 from __future__ import annotations
 
 import os
+import time
 
 import pytest
 
 from booktools import notebook_cache
+
+# book/labs is a link to notebooks/ (so the book shows the labs): collect each lab once.
+collect_ignore = ["book/labs"]
 
 
 # With several test processes on few cores, each process (and each notebook's kernel, which
@@ -26,12 +33,61 @@ THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"
 
 
 def pytest_configure(config):
-    if not hasattr(config, "workerinput"):  # the controller (or a run without xdist) only
-        notebook_cache.prepare()
-        config.pluginmanager.register(NotebookProgress(config), "roughgp-notebook-progress")
-    elif int(config.workerinput.get("workercount", 1)) > 1:
+    worker = hasattr(config, "workerinput")
+    if worker and int(config.workerinput.get("workercount", 1)) > 1:
         for name in THREAD_VARIABLES:
             os.environ.setdefault(name, "1")
+    if not config.getoption("nbmake", False):
+        return
+    if not worker:  # the controller (or a run without xdist) only
+        notebook_cache.prepare()
+        config.pluginmanager.register(NotebookProgress(config), "roughgp-notebook-progress")
+    _run_nbmake_through_the_cache()
+
+
+def _is_notebook(item):
+    return getattr(item, "nbmake", False)
+
+
+_RUNS = {}  # notebook path -> notebook_cache.Executed, in this process
+
+
+def _run_nbmake_through_the_cache():
+    """nbmake's ``NotebookRun.execute`` (nbmake 1.5.5, pinned) taken through
+    :func:`booktools.notebook_cache.execute`: from the cache when unchanged, stored in it when
+    it passed. nbmake's item, its options (``--nbmake-timeout``, ``--nbmake-kernel``) and its
+    failure report are nbmake's own."""
+    from nbmake.nb_run import NotebookRun
+
+    nbmake_execute = NotebookRun.execute
+    if getattr(nbmake_execute, "through_cache", False):
+        return
+
+    def execute(run):
+        executed = notebook_cache.execute(run.filename, runner=lambda: nbmake_execute(run))
+        _RUNS[str(executed.path)] = executed
+        return executed.result
+
+    execute.through_cache = True
+    NotebookRun.execute = execute
+
+
+def pytest_itemcollected(item):
+    if _is_notebook(item):
+        item.add_marker(pytest.mark.notebook)
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_call(item):
+    start = time.perf_counter()
+    yield
+    if _is_notebook(item):
+        run = _RUNS.get(str(item.path.resolve()))
+        if run is None:
+            how = f"({time.perf_counter() - start:.0f} s)"
+        else:
+            how = f"{'cached' if run.cached else 'executed'} ({run.seconds:.0f} s)"
+        item.user_properties.append(("notebook", how))
 
 
 # Seconds each notebook took in CI (a fresh clone on the 2-core machine, two workers,
@@ -63,9 +119,9 @@ def pytest_collection_modifyitems(config, items):
     with the least notebook time so far), so that the long notebooks do not queue behind each
     other on one worker while the other ends early. The unit tests fill the rest of each share
     and are stolen by whichever worker runs out first."""
-    notebooks = sorted((i for i in items if isinstance(i, NotebookItem)),
+    notebooks = sorted((i for i in items if _is_notebook(i)),
                        key=lambda i: (-_seconds(i), str(i.path)))
-    units = [i for i in items if not isinstance(i, NotebookItem)]
+    units = [i for i in items if not _is_notebook(i)]
     workers = int(getattr(config, "workerinput", {}).get("workercount", 1))
     if workers <= 1 or len(notebooks) < 2:
         items[:] = notebooks + units
@@ -101,7 +157,7 @@ class NotebookProgress:
 
     def pytest_collection_finish(self, session):
         if session.items:  # without xdist; under xdist the workers collect
-            self.total = sum(isinstance(item, NotebookItem) for item in session.items)
+            self.total = sum(_is_notebook(item) for item in session.items)
 
     def pytest_xdist_node_collection_finished(self, node, ids):
         self.total = sum(i.endswith(".ipynb") or ".ipynb::" in i for i in ids)
@@ -116,44 +172,3 @@ class NotebookProgress:
             how = dict(report.user_properties).get("notebook", "")
             self._say(f"notebook {report.nodeid.split('::')[0]}: {report.outcome} {how} "
                       f"[{self.done}/{self.total or '?'}]")
-
-
-def pytest_collect_file(file_path, parent):
-    if file_path.suffix == ".ipynb" and ".ipynb_checkpoints" not in file_path.parts \
-            and "_build" not in file_path.parts:
-        return NotebookFile.from_parent(parent, path=file_path)
-    return None
-
-
-class NotebookFile(pytest.File):
-    def collect(self):
-        yield NotebookItem.from_parent(self, name=self.path.name)
-
-
-class NotebookFailed(Exception):
-    pass
-
-
-class NotebookItem(pytest.Item):
-    def __init__(self, **kwargs):
-        super().__init__(**kwargs)
-        self.add_marker(pytest.mark.notebook)
-
-    def runtest(self):
-        run = notebook_cache.execute(self.path)
-        how = "cached" if run.cached else "executed"
-        self.user_properties.append(("notebook", f"{how} ({run.seconds:.0f} s)"))
-        if run.cached:
-            self.add_report_section("call", "notebook", f"taken from the cache: its cells, "
-                                    f"roughgp, the lock and the data are unchanged since it "
-                                    f"passed in {run.seconds:.0f} s")
-        if run.error is not None:
-            raise NotebookFailed(run.error)
-
-    def repr_failure(self, excinfo, style=None):
-        if isinstance(excinfo.value, NotebookFailed):
-            return f"{self.path.name}: a cell failed\n{excinfo.value}"
-        return super().repr_failure(excinfo, style)
-
-    def reportinfo(self):
-        return self.path, 0, f"notebook {self.path.relative_to(self.config.rootpath)}"

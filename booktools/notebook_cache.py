@@ -2,9 +2,11 @@
 
 The book is built by myst-nb with ``execute_notebooks: cache``: a chapter whose code cells are
 unchanged since its last successful run is taken from ``book/_build/.jupyter_cache`` instead of
-being executed again. The tests (``make test``) execute every chapter and lab through the same
-cache with the same executor (:func:`execute`), so a ``make book`` after ``make test`` executes
-nothing, and a second ``make book`` with nothing changed only renders.
+being executed again. The tests (``make test``, ``pytest --nbmake``) execute every chapter and
+lab with nbmake, and ``conftest.py`` routes nbmake's run through :func:`execute`: a notebook
+found in the cache is not run again, and one that nbmake ran without error is stored there with
+its outputs (jupyter-cache keeps a notebook's existing outputs). So a ``make book`` after
+``make test`` executes nothing, and a second ``make book`` with nothing changed only renders.
 
 jupyter-cache keys a notebook by its code cells alone; the book's notebooks also depend on the
 library, the pinned environment, the data they read and the size switch. :func:`fingerprint`
@@ -113,46 +115,66 @@ def _sharing_results(cache):
 @dataclass
 class Executed:
     """A notebook's run: ``cached`` (taken from the cache), ``seconds`` (its execution time,
-    as recorded when it ran), ``error`` (the failing cell's traceback, or None)."""
+    as recorded when it ran), ``error`` (the failing cell's source and traceback, or None),
+    ``result`` (nbmake's ``NotebookResult``: the notebook with its outputs, and the error)."""
 
     path: Path
     cached: bool
     seconds: float
     error: str | None = None
+    result: object = None
 
 
-def execute(path: str | Path, cache: Path = CACHE, timeout: int = TIMEOUT) -> Executed:
-    """Take ``path``'s outputs from the cache, or execute it (in its own folder, as the book
-    build does) and cache it if every cell ran; what myst-nb's cache mode does, so that the
-    book build finds the result."""
+def _with_outputs(source, executed):
+    """``source`` with the outputs and execution counts of ``executed`` (the same cells, run):
+    the notebook jupyter-cache stores, hashed on the source's own metadata as myst-nb hashes
+    it when it looks a notebook up."""
+    import copy
+
+    notebook = copy.deepcopy(source)
+    for cell, ran in zip(notebook.cells, executed.cells):
+        if cell.cell_type == "code":
+            cell.outputs = ran.get("outputs", [])
+            cell.execution_count = ran.get("execution_count")
+    return notebook
+
+
+def execute(path: str | Path, cache: Path = CACHE, timeout: int = TIMEOUT,
+            runner=None) -> Executed:
+    """Take ``path``'s outputs from the cache, or execute it with nbmake (in its own folder, as
+    the book build does) and cache it if every cell ran, so that the book build (myst-nb's
+    cache mode) finds the result and executes nothing.
+
+    ``runner``: a callable returning nbmake's ``NotebookResult`` for ``path`` (the test run
+    passes nbmake's own, with its options); by default ``NotebookRun(path, timeout)``."""
     import nbformat
     from jupyter_cache import get_cache
     from jupyter_cache.base import CacheBundleIn
-    from jupyter_cache.cache.db import NbProjectRecord
-    from jupyter_cache.executors.utils import single_nb_execution
+    from nbmake.nb_result import NotebookResult
+    from nbmake.nb_run import NotebookRun
 
     path = Path(path).resolve()
     store = get_cache(str(cache))
     notebook = nbformat.read(path, as_version=4)
     try:
         record = store.match_cache_notebook(notebook)
-        return Executed(path, True, float(record.data.get("execution_seconds") or 0.0))
+        return Executed(path, True, float(record.data.get("execution_seconds") or 0.0),
+                        result=NotebookResult(nb=notebook, error=None))
     except KeyError:
         pass
-    stage = store.add_nb_to_project(str(path))
-    NbProjectRecord.remove_tracebacks([stage.pk], store.db)
+    if runner is None:
+        def runner():
+            return NotebookRun(path, timeout).execute()
     start = time.perf_counter()
     with _sharing_results(cache):
-        result = single_nb_execution(notebook, cwd=str(path.parent), allow_errors=False,
-                                     timeout=timeout, meta_override=True)
+        result = runner()
     seconds = time.perf_counter() - start
-    if result.err is not None:
-        NbProjectRecord.set_traceback(stage.uri, result.exc_string, store.db)
-        return Executed(path, False, seconds, result.exc_string or repr(result.err))
-    store.cache_notebook_bundle(CacheBundleIn(notebook, stage.uri,
-                                              data={"execution_seconds": result.time}),
+    if result.error is not None:
+        return Executed(path, False, seconds, result.error.trace, result)
+    store.cache_notebook_bundle(CacheBundleIn(_with_outputs(notebook, result.nb), str(path),
+                                              data={"execution_seconds": seconds}),
                                 check_validity=False, overwrite=True)
-    return Executed(path, False, seconds)
+    return Executed(path, False, seconds, result=result)
 
 
 def setup(app):
