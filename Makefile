@@ -1,5 +1,6 @@
 # The two set-up commands of the README: `make book` and `make test`.
 # Each creates ./.venv on first use (torch==2.13.0 first, then the lock, then roughgp).
+# `make test` runs the unit tests and, with nbmake, every chapter (book/) and lab (notebooks/).
 # Both execute the notebooks through one cache (book/_build/.jupyter_cache, see
 # booktools/notebook_cache.py): whichever runs second reuses what the first executed.
 # `make student` writes the labs without their solutions (book/_build/student/: the notebooks, a

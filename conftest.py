@@ -68,7 +68,7 @@ def _run_nbmake_through_the_cache():
         _RUNS[str(executed.path)] = executed
         return executed.result
 
-    execute.through_cache = True
+    execute.through_cache, execute.original = True, nbmake_execute
     NotebookRun.execute = execute
 
 

@@ -1,8 +1,8 @@
 """The student edition of the labs (``make student``): no solution left, and a student who runs
 a lab from the top stops at the first blank with the lab's own message.
 
-The reference edition is the other side: every ``book/labs/*.ipynb`` passes its self-checks as a
-notebook test item (conftest.py)."""
+The reference edition is the other side: every ``notebooks/*.ipynb`` passes its self-checks as an
+nbmake test item (conftest.py)."""
 
 import re
 import zipfile
