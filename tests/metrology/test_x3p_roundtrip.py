@@ -125,22 +125,28 @@ def test_offsets_creator_and_comment_are_kept(tmp_path):
     from SurfaceTopography import read_topography
     path = _roughgp_file(tmp_path, offset=(1000.0, 2000.0, 3.0), creator="Lab A",
                          comment="a comment")
-    meta = x3p.read_x3p(path).meta
-    np.testing.assert_allclose(meta["offset"], (1000.0, 2000.0, 3.0), rtol=1e-12)
+    reading = x3p.read_x3p(path)
+    meta = reading.meta
+    # x and y place the first point; the z offset is added to the heights (ISO 5436-2), as
+    # SurfaceTopography adds it, so it is 0 in the offset written back
+    np.testing.assert_allclose(meta["offset"], (1000.0, 2000.0, 0.0), rtol=1e-12)
+    assert meta["z_offset"] == pytest.approx(3.0, rel=1e-12)
     assert meta["creator"] == "Lab A" and meta["comment"] == "a comment"
-    # the z offset is the file's: the tools that add it to the heights do so on both sides
     topography = read_topography(str(path))
     np.testing.assert_allclose(topography.heights().T * 1e6, _ramp() + 3.0, rtol=1e-12)
+    np.testing.assert_allclose(reading.z, topography.heights().T * 1e6, rtol=1e-12)
 
 
 def test_write_heights_keeps_the_input_meta(tmp_path):
     source = {"offset": (5.0, 6.0, 0.5), "creator": "Lab B", "comment": "measured on Monday"}
     out = tmp_path / "o.x3p"
     writers.write_heights(out, _ramp(), (DY, DX), "roughgp fill in.x3p: filled", source=source)
-    meta = x3p.read_x3p(out).meta
+    written = x3p.read_x3p(out)
+    meta = written.meta
     assert meta["creator"] == "Lab B"
     assert meta["comment"] == "roughgp fill in.x3p: filled; the input's comment: measured on Monday"
-    np.testing.assert_allclose(meta["offset"], (5.0, 6.0, 0.5), rtol=1e-12)
+    np.testing.assert_allclose(meta["offset"], (5.0, 6.0, 0.0), rtol=1e-12)
+    np.testing.assert_allclose(written.z, _ramp() + 0.5, rtol=1e-12)  # the z offset, added
     csv = tmp_path / "o.csv"
     writers.write_heights(csv, _ramp(), DX, "roughgp fill in.x3p", source=source)
     text = csv.read_text()
@@ -165,7 +171,11 @@ def test_fill_writes_back_the_input_meta_and_what_it_did(tmp_path, capsys):
     assert meta["comment"].startswith("roughgp fill holes.x3p --seed 0: the form")
     assert "2 missing points filled by the GP posterior mean" in meta["comment"]
     assert meta["comment"].endswith("the input's comment: raw")
-    np.testing.assert_allclose(meta["offset"], (10.0, 20.0, 1.0), rtol=1e-12)
+    # the input's z offset (1 um) is in the heights read, so written back once, not twice
+    np.testing.assert_allclose(meta["offset"], (10.0, 20.0, 0.0), rtol=1e-12, atol=1e-12)
+    filled = x3p.read_x3p(out).z
+    measured = np.isfinite(z)
+    np.testing.assert_allclose(filled[measured], z[measured] + 1.0, rtol=1e-9, atol=1e-9)
     sd_meta = x3p.read_x3p(sd).meta
     assert "posterior sd" in sd_meta["comment"]
     np.testing.assert_allclose(sd_meta["offset"], (10.0, 20.0, 0.0), rtol=1e-12, atol=1e-12)
