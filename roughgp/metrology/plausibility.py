@@ -5,8 +5,9 @@ A damaged or misread file can give numbers that no surface has: one changed byte
 read in the wrong unit puts a 512² field 160 m wide. :func:`check_reading` refuses such a
 reading with the implausible value named, rather than computing texture parameters from it.
 The bounds (:data:`BOUNDS`, in µm) are wide: a metre for heights and fields, a picometre to a
-metre for a step. Real instruments sit far inside them (the 24 open files of ``data/``:
-heights up to 0.11 m, the height level of a stage; steps from 0.001 to 200 µm).
+metre for a step. Real instruments sit far inside them (the 22 files of
+:mod:`roughgp.experiments.real_maps`: heights up to 0.107 m, a stage's level; steps from 1e-4
+to 200 µm; fields up to 60 mm).
 """
 
 from __future__ import annotations
