@@ -19,10 +19,8 @@ Layout: a surface is ``z[iy, ix]`` (the data file runs x fastest), spacing ``(dy
 from __future__ import annotations
 
 import dataclasses
-import datetime
 import hashlib
 import math
-import os
 import posixpath
 import types
 import zipfile
@@ -30,6 +28,7 @@ import zlib
 
 import numpy as np
 
+from roughgp.common.dates import creation_date
 from roughgp.common.grid import normalize
 from roughgp.metrology.readers import MAX_POINTS, MalformedFileError
 
@@ -252,24 +251,6 @@ def read_x3p(path, *, layer=0) -> HeightMap:
 #: the one SurfaceTopography 1.27 requires and surfalize and x3pio read too (the newer
 #: ``ISO25178-72:2017/DAM1`` of Amd 1:2020, x3pio's default, is refused by SurfaceTopography).
 WRITE_REVISION = "ISO5436 - 2000"
-
-
-def creation_date(date=None):
-    """The creation date written into ``Record2``: ``date`` (a timezone-aware ``datetime``)
-    when given, else the environment variable ``SOURCE_DATE_EPOCH`` (whole seconds since
-    1970-01-01 UTC, the reproducible-builds convention) when set, else the current UTC time.
-    The same heights with the same date give a byte-identical file."""
-    if date is not None:
-        if not isinstance(date, datetime.datetime) or date.tzinfo is None:
-            raise ValueError(f"date must be a timezone-aware datetime.datetime, got {date!r}")
-        return date
-    epoch = os.environ.get("SOURCE_DATE_EPOCH", "").strip()
-    if not epoch:
-        return datetime.datetime.now(datetime.timezone.utc)
-    if not epoch.isdigit() or int(epoch) > 253402300799:  # up to 9999-12-31T23:59:59Z
-        raise ValueError(f"SOURCE_DATE_EPOCH must be whole seconds since 1970-01-01 UTC "
-                         f"(0 to 253402300799), got {epoch!r}")
-    return datetime.datetime.fromtimestamp(int(epoch), datetime.timezone.utc)
 
 
 def write_x3p(path, z, spacing, *, comment=None, creator=None, offset=None, date=None) -> None:

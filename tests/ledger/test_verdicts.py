@@ -62,3 +62,12 @@ def test_land_check_verdicts(sku, std, str_, holds):
                                         _parameter("Std", std, 80.0, 100.0),
                                         _parameter("Str", str_, 0.2, 0.4)])
     assert all(ms.land_check_verdicts(check).values()) == holds
+
+
+def test_one_rule_decides_quick_against_full(monkeypatch):
+    from roughgp.common import settings
+    monkeypatch.delenv("ROUGHGP_FULL", raising=False)
+    assert settings.pick(1, 2) == 1 and settings.pick(1, 2, full=True) == 2
+    monkeypatch.setenv("ROUGHGP_FULL", "1")
+    assert settings.pick(1, 2) == 2 and settings.pick(1, 2, full=False) == 1
+    assert settings.resolve_full(None) and not settings.resolve_full(False)
