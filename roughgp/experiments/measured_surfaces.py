@@ -24,7 +24,6 @@ from __future__ import annotations
 import dataclasses
 import functools
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -38,6 +37,7 @@ from roughgp.beyond.measured.fit import (
     fit_surface_model,
 )
 from roughgp.beyond.measured.self_check import hide_discs, median_abs_of, rmse_of
+from roughgp.experiments.real_maps import DATA
 from roughgp.metrology.form import remove_form
 from roughgp.metrology.measurement import Measurement, read_measurement
 
@@ -48,7 +48,6 @@ __all__ = ["DATA", "LAND_FILE", "PROFILE_FILE", "LAND_L_FILTER", "LandResult", "
            "fill_verdicts", "TIE", "increment_kurtosis", "file_increment_kurtosis",
            "form_removed", "file_height_step"]
 
-DATA = Path(__file__).resolve().parents[2] / "data"
 LAND_FILE = "sample-land.x3p"
 PROFILE_FILE = "dektak-1.csv"
 LAND_L_FILTER = 250.0  #: um: the land's waviness cut-off (a tenth of its width)
