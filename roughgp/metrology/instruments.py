@@ -14,6 +14,7 @@ from __future__ import annotations
 import struct
 import types
 import warnings
+from pathlib import Path
 
 import numpy as np
 
@@ -63,7 +64,7 @@ def _factor(path, unit, given):
 
 def _reader_named_by(path) -> str | None:
     """The name of SurfaceTopography's reader whose extensions include the file's, if any."""
-    ext = str(path).rsplit(".", 1)[-1].lower() if "." in str(path) else ""
+    ext = Path(str(path)).suffix.lower().lstrip(".")
     for reader in _topography_io().readers:
         try:
             if ext and ext in [str(e).lower() for e in (reader.file_extensions() or ())]:

@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import os
 import re
 import types
 from pathlib import Path
@@ -25,7 +24,7 @@ import numpy as np
 
 from roughgp.metrology import readers
 from roughgp.metrology.instruments import UM_PER_UNIT, read_instrument
-from roughgp.metrology.plausibility import check_reading
+from roughgp.metrology.plausibility import BOUNDS, check_reading
 from roughgp.metrology.readers import MalformedFileError
 from roughgp.metrology.x3p import read_x3p
 
@@ -394,8 +393,10 @@ def read_measurement(path, *, kind: str = "auto", spacing: float | None = None,
     path = _check_input(path)
     if kind not in ("auto", "profile", "surface"):
         raise ValueError(f"kind must be 'auto', 'profile' or 'surface', got {kind!r}")
-    if spacing is not None and not (math.isfinite(spacing) and spacing > 0):
-        raise ValueError(f"spacing must be > 0 (um), got {spacing!r}")
+    low, high = BOUNDS["step"]
+    if spacing is not None and not (math.isfinite(spacing) and low <= spacing <= high):
+        raise ValueError(f"spacing must be from {low:g} to {high:g} um (1 pm to 1 m), got "
+                         f"{spacing!r}")
     if unit is not None and unit not in UM_PER_UNIT:
         raise ValueError(f"unit must be one of {', '.join(UM_PER_UNIT)}, got {unit!r}")
     measurement = _read(path, kind, spacing, channel, unit)
@@ -407,8 +408,8 @@ def _read(path: Path, kind: str, spacing, channel, unit) -> Measurement:
     ext = path.suffix.lower()
     if ext == ".npy":
         m = _npy(path, kind, spacing)
-        z, m.unit_source = _given_unit(m.z, unit)
-        return dataclasses.replace(m, z=z)
+        z, unit_source = _given_unit(m.z, unit)
+        return dataclasses.replace(m, z=z, unit_source=unit_source)
     if ext == ".x3p":
         if unit is not None:
             raise ValueError(f"unit: an .x3p file stores metres, so a unit ({unit!r}) does not "

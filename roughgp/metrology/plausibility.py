@@ -47,16 +47,17 @@ def check_reading(z, spacing, path) -> None:
     axes = ("x",) if z.ndim == 1 else ("y", "x")
     for axis, step, n in zip(axes, spacing, z.shape):
         step = float(step)
+        an = "an" if axis == "x" else "a"
         if not (math.isfinite(step) and low <= step <= high):
             raise MalformedFileError(
-                f"{path}: implausible reading: a {axis} step of {step!r} um, outside the "
+                f"{path}: implausible reading: {an} {axis} step of {step!r} um, outside the "
                 f"{low:g} to {high:g} um (1 pm to 1 m) a measurement's step can be (a damaged "
                 "file, or a spacing read in the wrong unit)")
         if step * n > BOUNDS["field"]:
             raise MalformedFileError(
-                f"{path}: implausible reading: {n} points at a {axis} step of {_um(step)} make "
-                f"a field {_um(step * n)} wide, more than the {BOUNDS['field'] / 1e6:g} m a "
-                "measurement can be (a spacing read in the wrong unit?)")
+                f"{path}: implausible reading: {n} points at {an} {axis} step of {_um(step)} "
+                f"make a field {_um(step * n)} wide, more than the {BOUNDS['field'] / 1e6:g} m "
+                "a measurement can be (a spacing in the wrong unit?)")
     measured = np.isfinite(z)
     if not np.any(measured):
         raise MalformedFileError(f"{path}: holds no measured point: all {z.size} heights are "

@@ -121,6 +121,13 @@ def test_hfm_profile_is_in_mm_for_both_columns():
     assert m.z[0] == pytest.approx(z0 * 1e3, rel=1e-12)  # 106.6 mm, an absolute level
 
 
+@pytest.mark.parametrize("spacing", [1e-300, 1e300, 0.0, float("inf")])
+def test_a_spacing_beyond_the_bounds_is_refused_before_reading(tmp_path, spacing):
+    np.save(tmp_path / "h.npy", np.zeros((4, 4)))
+    with pytest.raises(ValueError, match=r"spacing must be from 1e-06 to 1e\+06 um"):
+        read_measurement(tmp_path / "h.npy", spacing=spacing)
+
+
 def test_unit_applies_to_npy_and_text_and_is_refused_for_x3p(tmp_path):
     z = np.arange(12.0).reshape(3, 4)
     np.save(tmp_path / "h.npy", z)
@@ -159,9 +166,9 @@ def test_sur_with_a_z_scale_of_1e30_is_refused(tmp_path):
 
 @pytest.mark.parametrize("spacing, z, match", [
     ((float("nan"), 1.0), np.zeros((2, 2)), "a y step of nan um"),
-    ((1.0, 0.0), np.zeros((2, 2)), "a x step of 0.0 um"),
-    ((1.0, 2e6), np.zeros((2, 2)), "a x step of 2000000.0 um"),
-    ((3125.0,), np.zeros(512), r"512 points at a x step of 3125 um make a field 1.6e\+06"),
+    ((1.0, 0.0), np.zeros((2, 2)), "an x step of 0.0 um"),
+    ((1.0, 2e6), np.zeros((2, 2)), "an x step of 2000000.0 um"),
+    ((3125.0,), np.zeros(512), r"512 points at an x step of 3125 um make a field 1.6e\+06"),
     ((1.0, 1.0), np.full((2, 2), np.nan), "holds no measured point"),
     ((1.0, 1.0), np.array([[0.0, 2e6], [np.nan, 1.0]]), r"z\[0, 1\] = 2e\+06 um \(2 m\)"),
 ])
