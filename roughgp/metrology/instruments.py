@@ -74,15 +74,20 @@ def _reader_named_by(path) -> str | None:
     return None
 
 
-def _unreadable(path, error) -> MalformedFileError:
-    """A reader's failure said as what is wrong with the file."""
+def _unreadable(path, error, reader=None) -> MalformedFileError:
+    """A reader's failure said as what is wrong with the file (its own words shortened to
+    printable text: some quote the file's bytes)."""
     text = str(error)
     if "physical_sizes" in text and "could not be extracted" in text:
-        text = ("the file states no lateral size (no pixel size or field width), so it is "
-                "empty, damaged, or not the format it was taken for")
-    else:
-        text = f"{type(error).__name__}: {text}"
-    return MalformedFileError(f"{path}: cannot be read: {text}")
+        return MalformedFileError(f"{path}: cannot be read: the file states no lateral size "
+                                  "(no pixel size or field width), so it is empty, damaged, "
+                                  "or not the format it was taken for")
+    text = "".join(c if c.isprintable() else "?" for c in text)
+    text = text if len(text) <= 160 else text[:157] + "..."
+    by = f" ({type(reader).__name__})" if reader is not None else ""
+    return MalformedFileError(f"{path}: cannot be read: SurfaceTopography's reader{by} failed "
+                              f"on its content ({type(error).__name__}: {text}); the file is "
+                              "damaged or truncated, or not the format it was taken for")
 
 
 #: NanoFocus ``.nms``: the byte offset of the two float64 pixel sizes (x, y) in the header.
@@ -145,7 +150,7 @@ def read_instrument(path, *, channel=0, unit=None) -> HeightMap:
     try:
         names = [str(c.name) for c in reader.channels]
     except Exception as error:  # noqa: BLE001
-        raise _unreadable(path, error) from None
+        raise _unreadable(path, error, reader) from None
     if not names:
         raise MalformedFileError(f"{path}: holds no data channel ({type(reader).__name__} "
                                  "found none: truncated or damaged?)")
@@ -155,7 +160,7 @@ def read_instrument(path, *, channel=0, unit=None) -> HeightMap:
     try:
         points = int(np.prod(reader.channels[channel].nb_grid_pts))
     except Exception as error:  # noqa: BLE001
-        raise _unreadable(path, error) from None
+        raise _unreadable(path, error, reader) from None
     if points > MAX_POINTS:
         raise MalformedFileError(f"{path}: {points} points exceed MAX_POINTS = {MAX_POINTS}")
     try:
@@ -168,7 +173,7 @@ def read_instrument(path, *, channel=0, unit=None) -> HeightMap:
             pixel = (np.asarray(topography.pixel_size, dtype=np.float64) if uniform
                      else np.asarray(topography.positions(), dtype=np.float64))
     except Exception as error:  # noqa: BLE001 - a reader's own failure, reported with the file
-        raise _unreadable(path, error) from None
+        raise _unreadable(path, error, reader) from None
     factor, unit_source = _factor(path, file_unit, unit)
     z = np.ma.filled(np.ma.asarray(heights, dtype=np.float64), np.nan) * factor
     z[~np.isfinite(z)] = np.nan

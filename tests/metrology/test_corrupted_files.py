@@ -39,6 +39,8 @@ def test_corrupted_copies_read_plausibly_or_are_refused_by_name(tmp_path, name):
         except (MalformedFileError, ValueError) as error:
             assert str(error).startswith(str(path)), (variant, str(error))
             assert "physical_sizes" not in str(error) and "[0, 0)" not in str(error)
+            assert len(str(error)) < len(str(path)) + 400, (variant, str(error)[:500])
+            assert str(error).isprintable(), (variant, str(error)[:500])
         else:
             plausibility.check_reading(m.z, m.spacing, path)  # what read_measurement checked
             assert np.nanmax(np.abs(m.z)) <= plausibility.BOUNDS["height"]

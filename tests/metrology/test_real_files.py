@@ -219,6 +219,20 @@ def test_unreadable_file_by_its_mode(tmp_path):
         read_measurement(path)
 
 
+def test_bit_flipped_opd_header_is_refused_not_a_traceback(tmp_path):
+    # byte 98 of opd-1.opd: SurfaceTopography then returns no pixel size, and roughgp read
+    # it outside its try ("TypeError: 'NoneType' object is not iterable", a traceback)
+    raw = bytearray((DATA / "opd-1.opd").read_bytes())
+    raw[98] ^= 0xFF
+    bad = tmp_path / "flipped.opd"
+    bad.write_bytes(bytes(raw))
+    with pytest.raises(MalformedFileError, match="flipped.opd: cannot be read: "
+                                                 "SurfaceTopography's reader .* failed on its "
+                                                 "content .* damaged or truncated") as error:
+        read_measurement(bad)
+    assert len(str(error.value)) < 400
+
+
 def test_truncated_di_says_it_holds_no_channel(tmp_path):
     bad = tmp_path / "short.di"
     bad.write_bytes((DATA / "di-1.di").read_bytes()[:100])
