@@ -162,7 +162,8 @@ def _text_header(path: Path) -> _TextHeader:
             if text and not text.startswith("#"):
                 last_header = text
     units = []
-    columns = re.split(r"[,;\t]", last_header)
+    columns = re.split(r"[,;\t]", last_header) if re.search(r"[,;\t]", last_header) \
+        else last_header.split()  # ``µm µm``: one unit per whitespace-separated column
     for column in columns:
         words = [w for w in re.findall(r"[A-Za-zµμ]+", column.lower())]
         known = [_UNIT_WORDS[w] for w in words if w in _UNIT_WORDS]

@@ -7,9 +7,11 @@ surface ``z[iy, ix]`` (rows are y, y grows with the row index); ``spacing`` is i
 ``(dy, dx)``. Text readers return values in the file's units times ``unit_scale``. ``NaN`` marks a point
 that was not measured; it is allowed in heights, never in positions or spacings.
 
-Text files are UTF-8 (or ASCII), or UTF-16 with its byte-order mark. Blank lines and lines starting with ``#``, ``%`` or ``//`` are skipped anywhere;
-with ``skiprows="auto"`` the non-numeric lines before the first numeric one (a header) are
-skipped too, and a non-numeric line after it is an error. ``delimiter=None`` splits on commas,
+Text files are UTF-8 (or ASCII), or UTF-16 with its byte-order mark. Blank lines and lines
+starting with ``#``, ``%`` or ``//`` are skipped anywhere; with ``skiprows="auto"`` the
+non-numeric lines before the first numeric one (a header) are skipped too (and a count line,
+one whole number right before rows of several values), and a non-numeric line after it is an
+error. ``delimiter=None`` splits on commas,
 semicolons, tabs and spaces (one trailing delimiter on a line is ignored), except in a file whose
 first line (header or data) holds a semicolon: then ``;`` is the delimiter and a comma in a
 number is its decimal comma (``0,5;1,25``: the European CSV), never a column break. A line is a
@@ -157,6 +159,11 @@ def _read_table(path, *, delimiter=None, skiprows="auto", units_of=None, header=
                                  "delimiter)", number) from None
             if width is None:
                 width = len(row)
+            elif (skiprows == "auto" and len(lines) == 1 and width == 1 and len(row) > 1
+                  and float(flat[0]).is_integer() and flat[0] >= 0):
+                if header is not None:  # a count line (``23``) before the rows: a header
+                    header.append((lines[0], f"{int(flat[0])} (a count line)"))
+                flat, lines, units, width = array("d"), array("q"), array("d"), len(row)
             elif len(row) != width:
                 raise _bad(path, f"{len(row)} values, but the first data row (line "
                                  f"{lines[0]}) has {width}", number)

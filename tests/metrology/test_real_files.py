@@ -111,6 +111,16 @@ def test_utf16_csv_with_an_index_column_and_a_um_header():
     assert any("index" in note for note in m.notes)
 
 
+def test_xy2_count_line_and_unit_line_are_read_and_its_irregular_x_refused_plainly():
+    with pytest.raises(MalformedFileError, match="xy-2.txt: the x column is not a regular "
+                                                 "grid.*--spacing"):
+        read_measurement(DATA / "xy-2.txt")
+    m = read_measurement(DATA / "xy-2.txt", spacing=1.5)
+    assert m.z.shape == (24,) and m.unit_source == "um (from the column header)"
+    assert m.z[0] == pytest.approx(17.85497)
+    assert any("a count line" in note for note in m.notes)
+
+
 def test_hfm_profile_is_in_mm_for_both_columns():
     m = read_measurement(DATA / "hfm-1.hfm")
     lines = (DATA / "hfm-1.hfm").read_text().splitlines()
