@@ -7,10 +7,10 @@ a ``main.xml`` without the schema's namespace), reads it with a lenient parser o
 declared sizes before any allocation, the MD5 checksums where the file has them, and the
 data types of the standard (``I`` int16, ``L`` int32, ``F`` float32, ``D`` float64, with the
 z axis' increment applied as x3pio applies it, and the valid-points mask of integer data).
-The z axis' offset is added to the heights, ``z = raw * increment + offset``, as ISO 5436-2
-and SurfaceTopography read it (openGPS's ``ISO5436-sample4_bin.x3p`` stores int16 heights
-with a z offset); the x and y offsets, the placement of the first point, go to
-``meta["offset"]`` with its z set to 0 (the heights hold it). Invalid points are NaN. :func:`write_x3p` writes through x3pio, in the revision that SurfaceTopography,
+The z offset is added to the heights, ``z = raw * increment + offset``, as SurfaceTopography
+reads it (openGPS's ``ISO5436-sample4_bin.x3p``: int16 heights with a z offset); the x and y
+offsets place the first point: ``meta["offset"]``, its z 0 (the heights hold it). Invalid
+points are NaN. :func:`write_x3p` writes through x3pio, in the revision that SurfaceTopography,
 surfalize and x3pio all read (:data:`WRITE_REVISION`).
 
 Layout: a surface is ``z[iy, ix]`` (the data file runs x fastest), spacing ``(dy, dx)``.
