@@ -439,7 +439,7 @@ def _read(path: Path, kind: str, spacing, channel, unit) -> Measurement:
                                  "(instrument formats: roughgp texture --help lists them)") \
             from None
     unit_source = hm.meta["unit"]
-    if not unit_source.startswith("um"):
+    if UM_PER_UNIT.get(unit_source.split(" ")[0]) != 1.0:  # not um, µm or μm
         unit_source += ", converted to um"
     return _height_map(hm, spacing, "from the file", unit_source, hm.meta["reader"])
 

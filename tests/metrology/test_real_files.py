@@ -71,6 +71,7 @@ def test_nms_spacing_is_read_from_its_header_in_nm_as_surfalize_reads_it():
         surface = surfalize.Surface.load(path)  # steps in um
     assert m.spacing == pytest.approx((surface.step_y, surface.step_x), rel=1e-12)
     assert m.spacing == pytest.approx((0.3125, 0.3125), rel=1e-6)  # a 160 um field
+    assert m.unit_source == "µm (from the file)"  # no conversion to speak of
     raw = path.read_bytes()[1376:1392]
     assert struct.unpack("<2d", raw) == pytest.approx((312.5, 312.5), rel=1e-6)  # nm
     # SurfaceTopography reads the same bytes as mm: a 160 m field, which the check refuses
