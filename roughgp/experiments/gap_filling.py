@@ -37,8 +37,8 @@ from roughgp.inference.block_fit import BlockFit, fit_ground_to_valid_points
 from roughgp.models import surfaces
 
 __all__ = ["GROUND", "NOISE_VARIANCE", "DROPOUT_SHARE", "N_SAMPLES", "SEED", "WINDOW",
-           "INTERPOLANTS", "HOLE_KINDS", "GapScenario", "Baseline", "GapFillingResult",
-           "chapter_size", "gap_scenario", "window_slices", "interpolate_baseline",
+           "INTERPOLANTS", "GapScenario", "Baseline", "GapFillingResult", "gap_scenario",
+           "window_slices", "interpolate_baseline",
            "rmse_by_region", "coverage_by_region", "expected_coverage", "compare_gap_filling"]
 
 #: The simulated ground surface (eq 18): sigma_k^2 = 10, lambda_a = 40, lambda_b = 5, phi = pi/6.
@@ -49,12 +49,6 @@ N_SAMPLES = 16              #: pathwise draws for the posterior sd
 SEED = 11
 #: Where the interpolants are compared: (row, column) ranges as shares of the grid side.
 WINDOW = ((0.2, 0.8), (0.15, 0.55))
-HOLE_KINDS = ("scratch", "blob", "dropouts")
-
-
-def chapter_size(full: bool) -> int:
-    """The chapter's grid side: 512 for the full run, else 256."""
-    return 512 if full else 256
 
 
 @dataclass(frozen=True)

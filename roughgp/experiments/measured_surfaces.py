@@ -24,7 +24,6 @@ from __future__ import annotations
 import dataclasses
 import functools
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -38,16 +37,17 @@ from roughgp.beyond.measured.fit import (
     fit_surface_model,
 )
 from roughgp.beyond.measured.self_check import hide_discs, median_abs_of, rmse_of
+from roughgp.experiments.real_maps import DATA
 from roughgp.metrology.form import remove_form
 from roughgp.metrology.measurement import Measurement, read_measurement
 
 __all__ = ["DATA", "LAND_FILE", "PROFILE_FILE", "LAND_L_FILTER", "LandResult", "ProfileResult",
            "CrossValidation", "CV_FILES", "lay_deviation_deg", "land_fit", "land_check",
+           "LAY_TOLERANCE_DEG", "WEAK_ANISOTROPY", "land_fit_verdicts", "land_check_verdicts",
            "bullet_land", "stylus_profile", "cross_validated_fill", "centre_crop", "hide_discs",
            "fill_verdicts", "TIE", "increment_kurtosis", "file_increment_kurtosis",
            "form_removed", "file_height_step"]
 
-DATA = Path(__file__).resolve().parents[2] / "data"
 LAND_FILE = "sample-land.x3p"
 PROFILE_FILE = "dektak-1.csv"
 LAND_L_FILTER = 250.0  #: um: the land's waviness cut-off (a tenth of its width)
@@ -155,6 +155,38 @@ def land_fit(*, seed=0, l_filter=LAND_L_FILTER) -> tuple[Measurement, SurfaceMod
     fit = fit_surface_model(land.z, land.spacing, form="cylinder", l=l_filter, seed=seed,
                             data={"file": LAND_FILE})
     return land, fit
+
+
+#: the land's lay: phi within this many degrees of the striations (y) ...
+LAY_TOLERANCE_DEG = 20.0
+#: ... and a weak anisotropy, lambda_a / lambda_b below this (figure 2: 100)
+WEAK_ANISOTROPY = 5.0
+
+
+def land_fit_verdicts(fit: SurfaceModelFit) -> dict:
+    """The data's verdicts on the land's eq-18 fit, as the chapter asserts them and the
+    ledger's ``land-lay`` row judges them: statement -> bool."""
+    hp = fit.model.hyperparameters
+    return {
+        f"the lay lies along the striations (within {LAY_TOLERANCE_DEG:g} deg)":
+            lay_deviation_deg(fit) < LAY_TOLERANCE_DEG,
+        f"the anisotropy is weak (lambda_a / lambda_b < {WEAK_ANISOTROPY:g})":
+            hp["lambda_a_um"] / hp["lambda_b_um"] < WEAK_ANISOTROPY,
+    }
+
+
+def land_check_verdicts(check: ModelCheck) -> dict:
+    """The data's verdicts on the land among its model's simulations, as the chapter asserts
+    them and the ledger's ``land-model`` row judges them: statement -> bool."""
+    by_name = {p.name: p for p in check.parameters}
+    sku, std, str_ = by_name["Sku"], by_name["Std"], by_name["Str"]
+    return {
+        "Sku lies outside, above twice the simulations' largest (heavy-tailed heights)":
+            bool(sku.outside and sku.measured > 2 * sku.high),
+        "Std lies inside the simulations' range": not std.outside,
+        "Str lies outside, below the simulations' smallest (a stronger anisotropy)":
+            bool(str_.outside and str_.measured < str_.low),
+    }
 
 
 def land_check(land: Measurement, fit: SurfaceModelFit, *, seed=0,

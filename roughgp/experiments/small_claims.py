@@ -28,7 +28,7 @@ from scipy import stats
 
 from roughgp import sampling
 from roughgp.beyond import non_gaussian
-from roughgp.common.settings import full_size
+from roughgp.common.settings import resolve_full
 from roughgp.gp import acvf, fourier, kernels
 from roughgp.metrology import spectral, texture_heights
 from roughgp.models import arma
@@ -38,10 +38,6 @@ __all__ = ["DualityTable", "kernel_duality_table", "LongCorrelation", "long_corr
 
 #: the smooth ACVFs of the table, whose PSD has no mass to speak of beyond Nyquist
 SMOOTH = ("Matérn 5/2", "squared exponential", "spectral mixture, Q = 2 (eq 21)")
-
-
-def _resolve(full):
-    return full_size() if full is None else bool(full)
 
 
 # ------------------------------------------------------------------ eq 5
@@ -92,7 +88,7 @@ def kernel_duality_table(full=None, *, spacing_1d=0.01, n_1d=2 ** 14 + 1, spacin
     1's ACVF (eq 18, phi = 30 deg, lambda = (0.5, 0.1)) on a 1025² grid (2049² with ``full``;
     ``None``: ``ROUGHGP_FULL``). Forward errors over |f| <= ``band``."""
     fig1 = fig1 or dict(variance=1.0, lengthscales=(0.5, 0.1), angle=math.pi / 6)
-    n_2d = 2049 if _resolve(full) else 1025
+    n_2d = 2049 if resolve_full(full) else 1025
     profile = profile_kernels()
     errors = {name: fourier.duality_errors(k.acvf, k.psd, n_1d, spacing_1d, band=band)
               for name, k in profile.items()}
@@ -262,7 +258,7 @@ def non_gaussian_acvf(full=None, *, targets=None, kernel=None, shape=(512, 512),
     ``full``) with and, for non-Gaussian targets, without pre-distortion from one ``seed``."""
     targets = dict(targets or {"plateau": (-1.5, 6.0)})
     kernel = kernel or plateau_kernel()
-    n = n_samples or (20 if _resolve(full) else 5)
+    n = n_samples or (20 if resolve_full(full) else 5)
     draws, infos, naive, with_, without, predicted, rms, moments = ({} for _ in range(8))
     lags = target_acvf = None
     for name, target in targets.items():

@@ -60,18 +60,15 @@ def check_prescribed(full):
     closed-form inversion of Sq, Sal, Str, Std into eq 18 plus noise (roughgp.beyond.targets),
     then the achieved parameters over several seeds."""
     from roughgp.beyond import targets
+    from roughgp.experiments.prescribed_targets import target_verdicts
     goal = targets.RoughnessTargets(Sq=0.3, Sal=6.0, Str=0.1, Std=-20.0)
     noise = goal.Sq ** 2 * 0.1 / 1.1                        # sigma^2 / sigma_k^2 = 1/10
     h = targets.hyperparameters_for(**goal.as_dict(), noise_variance=noise)
     n = 20 if full else 5
     values = targets.achieved_parameters(h, (512, 512), seeds=range(100, 100 + n))
     summary = targets.summarize(values)
-    sq_mean, sq_sd = targets.sq_prediction(h, (512, 512))
-    ok = bool(np.all(np.abs(values["Sq"] - sq_mean) <= 4 * sq_sd))
-    for k in ("Sal", "Str"):
-        mean, sd = summary[k]
-        ok &= abs(mean - getattr(goal, k)) <= 4 * sd / math.sqrt(n)
-    ok &= abs(targets.direction_difference(summary["Std"][0], goal.Std)) <= 2.0
+    verdicts = target_verdicts(goal, values, targets.sq_prediction(h, (512, 512)))
+    ok = all(verdicts.values())
     return Check(", ".join(f"{k} {summary[k][0]:.3g} +- {summary[k][1]:.2g} (target "
                            f"{getattr(goal, k):g})" for k in targets.TARGET_NAMES)
                  + f" over {n} surfaces of 512 x 512", ok)

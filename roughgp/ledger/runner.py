@@ -47,13 +47,14 @@ def claim(key: str) -> Claim:
     raise ValueError(f"unknown claim {key!r}; the claims are: {', '.join(claim_keys())}")
 
 
-def run(*, full: bool = False, only: Iterable[str] | None = None,
+def run(*, full: bool | None = None, only: Iterable[str] | None = None,
         figures_dir: str | Path | None = None,
         progress: Callable[[str], None] | None = None) -> list[Outcome]:
     """Run the checks of the ledger (all, or the keys in ``only``), in the ledger's order.
 
     Args:
-        full: the paper's sizes (slower) instead of the quick defaults.
+        full: the paper's sizes (slower) instead of the quick defaults; None: as
+            ``ROUGHGP_FULL`` says (:func:`roughgp.common.settings.resolve_full`, the one rule).
         only: claim keys to run (each must exist); None runs all.
         figures_dir: where to save each check's figure as ``KEY.png`` (created); None
             closes the figures unsaved.
@@ -67,6 +68,8 @@ def run(*, full: bool = False, only: Iterable[str] | None = None,
     import matplotlib
     import matplotlib.pyplot as plt
 
+    from roughgp.common.settings import resolve_full
+    full = resolve_full(full)
     selected = CLAIMS if only is None else tuple(claim(k) for k in dict.fromkeys(only))
     if figures_dir is not None:
         figures_dir = Path(figures_dir)

@@ -7,9 +7,11 @@ surface ``z[iy, ix]`` (rows are y, y grows with the row index); ``spacing`` is i
 ``(dy, dx)``. Text readers return values in the file's units times ``unit_scale``. ``NaN`` marks a point
 that was not measured; it is allowed in heights, never in positions or spacings.
 
-Text files: blank lines and lines starting with ``#``, ``%`` or ``//`` are skipped anywhere;
-with ``skiprows="auto"`` the non-numeric lines before the first numeric one (a header) are
-skipped too, and a non-numeric line after it is an error. ``delimiter=None`` splits on commas,
+Text files are UTF-8 (or ASCII), or UTF-16 with its byte-order mark. Blank lines and lines
+starting with ``#``, ``%`` or ``//`` are skipped anywhere; with ``skiprows="auto"`` the
+non-numeric lines before the first numeric one (a header) are skipped too (and a count line,
+one whole number right before rows of several values), and a non-numeric line after it is an
+error. ``delimiter=None`` splits on commas,
 semicolons, tabs and spaces (one trailing delimiter on a line is ignored), except in a file whose
 first line (header or data) holds a semicolon: then ``;`` is the delimiter and a comma in a
 number is its decimal comma (``0,5;1,25``: the European CSV), never a column break. A line is a
@@ -38,7 +40,7 @@ import numpy as np
 from roughgp.common.checks import check_positive
 from roughgp.common.grid import normalize
 
-__all__ = ["MAX_POINTS", "MAX_TEXT_BYTES", "MalformedFileError", "read_profile",
+__all__ = ["MAX_POINTS", "MAX_TEXT_BYTES", "MalformedFileError", "text_encoding", "read_profile",
            "read_surface", "read_xyz", "profile_step", "ROUNDING_TOLERANCE"]
 
 #: Largest number of grid points a reader allocates (2**28 = 268 million: 2 GiB of float64).
@@ -131,7 +133,7 @@ def _read_table(path, *, delimiter=None, skiprows="auto", units_of=None, header=
     lines = array("q")
     units = array("d")
     width = None
-    with open(path, encoding="utf-8-sig", errors="replace", newline=None) as stream:
+    with open(path, encoding=text_encoding(path), errors="replace", newline=None) as stream:
         for number, raw in enumerate(stream, start=1):
             if skiprows != "auto" and number <= skiprows:
                 continue
@@ -157,6 +159,11 @@ def _read_table(path, *, delimiter=None, skiprows="auto", units_of=None, header=
                                  "delimiter)", number) from None
             if width is None:
                 width = len(row)
+            elif (skiprows == "auto" and len(lines) == 1 and width == 1 and len(row) > 1
+                  and float(flat[0]).is_integer() and flat[0] >= 0):
+                if header is not None:  # a count line (``23``) before the rows: a header
+                    header.append((lines[0], f"{int(flat[0])} (a count line)"))
+                flat, lines, units, width = array("d"), array("q"), array("d"), len(row)
             elif len(row) != width:
                 raise _bad(path, f"{len(row)} values, but the first data row (line "
                                  f"{lines[0]}) has {width}", number)
@@ -178,6 +185,18 @@ def _read_table(path, *, delimiter=None, skiprows="auto", units_of=None, header=
     digits = np.array(units, dtype=np.float64) if len(units) == len(lines) else \
         np.full(len(lines), np.nan)
     return values, lines, digits
+
+
+def text_encoding(path) -> str:
+    """The encoding to read a text file with: ``"utf-16"`` where it starts with a UTF-16
+    byte-order mark (spreadsheet exports), else ``"utf-8-sig"`` (UTF-8, with or without its
+    mark, which ASCII is too)."""
+    try:
+        with open(path, "rb") as stream:
+            head = stream.read(2)
+    except TypeError:
+        return "utf-8-sig"  # not a path (an open stream)
+    return "utf-16" if head in (b"\xff\xfe", b"\xfe\xff") else "utf-8-sig"
 
 
 def _check_text_size(path):

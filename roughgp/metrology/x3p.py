@@ -6,8 +6,10 @@ a ``main.xml`` without the schema's namespace), reads it with a lenient parser o
 (:func:`_read_lenient`) that applies the same checks: defusedxml (no entity expansion), the
 declared sizes before any allocation, the MD5 checksums where the file has them, and the
 data types of the standard (``I`` int16, ``L`` int32, ``F`` float32, ``D`` float64, with the
-z axis' increment applied as x3pio applies it, and the valid-points mask of integer data). Axis offsets are the
-placement of the first point and go to ``meta["offset"]``, as on the x3pio path. Invalid
+z axis' increment applied as x3pio applies it, and the valid-points mask of integer data).
+The z offset is added to the heights, ``z = raw * increment + offset``, as SurfaceTopography
+reads it (openGPS's ``ISO5436-sample4_bin.x3p``: int16 heights with a z offset); the x and y
+offsets place the first point: ``meta["offset"]``, its z 0 (the heights hold it). Invalid
 points are NaN. :func:`write_x3p` writes through x3pio, in the revision that SurfaceTopography,
 surfalize and x3pio all read (:data:`WRITE_REVISION`).
 
@@ -17,10 +19,8 @@ Layout: a surface is ``z[iy, ix]`` (the data file runs x fastest), spacing ``(dy
 from __future__ import annotations
 
 import dataclasses
-import datetime
 import hashlib
 import math
-import os
 import posixpath
 import types
 import zipfile
@@ -28,6 +28,7 @@ import zlib
 
 import numpy as np
 
+from roughgp.common.dates import creation_date
 from roughgp.common.grid import normalize
 from roughgp.metrology.readers import MAX_POINTS, MalformedFileError
 
@@ -38,6 +39,8 @@ __all__ = ["MAX_XML_BYTES", "LATERAL_RANGE", "Z_RANGE", "WRITE_REVISION", "Heigh
 MAX_XML_BYTES = 2 ** 28
 
 _UM_PER_M = 1e6
+#: zip compression methods Python reads: stored, deflate, bzip2, lzma
+_ZIP_METHODS = (zipfile.ZIP_STORED, zipfile.ZIP_DEFLATED, zipfile.ZIP_BZIP2, zipfile.ZIP_LZMA)
 _DTYPES = {"I": "<i2", "L": "<i4", "F": "<f4", "D": "<f8"}
 
 
@@ -56,7 +59,8 @@ class HeightMap:
         unit: ``"um"`` (micrometres), the unit of ``z`` and ``spacing``.
         meta: read-only mapping with what the file says besides the heights:
             ``feature_type``, ``revision``, ``layer_count``, ``offset`` (x, y, z of the
-            first point, micrometres), ``creator``, ``date``, ``instrument``,
+            first point, micrometres; z is 0: the file's z offset is added to ``z``),
+            ``z_offset`` (that z offset, µm), ``creator``, ``date``, ``instrument``,
             ``probing_system``, ``comment`` (``None`` where the file has none).
     """
 
@@ -79,6 +83,14 @@ def _check_container(path):
             infos = [i for i in archive.infolist() if not i.is_dir()]
     except zipfile.BadZipFile as error:
         raise _bad(path, f"not an x3p file: not a (valid) zip archive ({error})") from None
+    for info in infos:
+        if info.flag_bits & 0x1:
+            raise _bad(path, f"the zip member {info.filename!r} is encrypted (password-"
+                             "protected); an x3p file's members are not: decrypt it first")
+        if info.compress_type not in _ZIP_METHODS:
+            raise _bad(path, f"the zip member {info.filename!r} is compressed with method "
+                             f"{info.compress_type}, which roughgp cannot decompress (x3p "
+                             "files use deflate or none)")
     mains = [i for i in infos if i.filename.replace("\\", "/").split("/")[-1] == "main.xml"]
     if not mains:
         raise _bad(path, "not an x3p file: the zip archive holds no main.xml")
@@ -148,12 +160,17 @@ def read_x3p(path, *, layer=0) -> HeightMap:
     """
     x3pio = _x3pio()
     expected = (x3pio.X3pError, zipfile.BadZipFile, zlib.error, EOFError,
-                NotImplementedError, UnicodeDecodeError)
+                NotImplementedError, RuntimeError, UnicodeDecodeError)
     _check_container(path)
     try:
         info = x3pio.info(path)
     except x3pio.X3pChecksumError as error:
-        if not _checksum_of_another_member(path):
+        try:
+            other = _checksum_of_another_member(path)
+        except (zipfile.BadZipFile, zlib.error, EOFError, RuntimeError) as damaged:
+            raise _bad(path, f"not a valid x3p file: {error}; a damaged zip archive "
+                             f"({damaged})") from None
+        if not other:
             raise _bad(path, f"not a valid x3p file: {error}") from None
         # SurfaceTopography 1.27 writes the data's MD5 (``HASH *bindata/data.bin``) into
         # md5checksum.hex: it names the member it checks, and that member matches
@@ -197,7 +214,8 @@ def read_x3p(path, *, layer=0) -> HeightMap:
         file = x3pio.read(path)
     except expected as error:
         raise _bad(path, f"not a valid x3p file: {error}") from None
-    z = np.array(file.layers[layer].z, dtype=np.float64) * _UM_PER_M
+    z_offset = float(info.placement.offset[2]) * _UM_PER_M  # x3pio leaves it out of z
+    z = np.array(file.layers[layer].z, dtype=np.float64) * _UM_PER_M + z_offset
     z[np.isinf(z)] = np.nan  # x3pio already reads inf as "not measured"; be sure
     if z.ndim != len(axes):
         raise _bad(path, f"layer {layer} has shape {z.shape}, expected {len(axes)}-D")
@@ -214,7 +232,8 @@ def read_x3p(path, *, layer=0) -> HeightMap:
         "feature_type": kind.lower(),
         "revision": _text(getattr(info.revision, "value", info.revision)),
         "layer_count": info.layer_count,
-        "offset": tuple(float(v) * _UM_PER_M for v in info.placement.offset),
+        "offset": (*(float(v) * _UM_PER_M for v in info.placement.offset[:2]), 0.0),
+        "z_offset": z_offset,
         "creator": _text(getattr(metadata, "creator", None)),
         "date": getattr(metadata, "date", None),
         "instrument": None if instrument is None else " ".join(
@@ -232,24 +251,6 @@ def read_x3p(path, *, layer=0) -> HeightMap:
 #: the one SurfaceTopography 1.27 requires and surfalize and x3pio read too (the newer
 #: ``ISO25178-72:2017/DAM1`` of Amd 1:2020, x3pio's default, is refused by SurfaceTopography).
 WRITE_REVISION = "ISO5436 - 2000"
-
-
-def creation_date(date=None):
-    """The creation date written into ``Record2``: ``date`` (a timezone-aware ``datetime``)
-    when given, else the environment variable ``SOURCE_DATE_EPOCH`` (whole seconds since
-    1970-01-01 UTC, the reproducible-builds convention) when set, else the current UTC time.
-    The same heights with the same date give a byte-identical file."""
-    if date is not None:
-        if not isinstance(date, datetime.datetime) or date.tzinfo is None:
-            raise ValueError(f"date must be a timezone-aware datetime.datetime, got {date!r}")
-        return date
-    epoch = os.environ.get("SOURCE_DATE_EPOCH", "").strip()
-    if not epoch:
-        return datetime.datetime.now(datetime.timezone.utc)
-    if not epoch.isdigit() or int(epoch) > 253402300799:  # up to 9999-12-31T23:59:59Z
-        raise ValueError(f"SOURCE_DATE_EPOCH must be whole seconds since 1970-01-01 UTC "
-                         f"(0 to 253402300799), got {epoch!r}")
-    return datetime.datetime.fromtimestamp(int(epoch), datetime.timezone.utc)
 
 
 def write_x3p(path, z, spacing, *, comment=None, creator=None, offset=None, date=None) -> None:
@@ -376,7 +377,15 @@ def _checksum_of_another_member(path) -> bool:
 
 
 def _read_lenient(path, layer=0, why=None) -> HeightMap:
-    """Read an x3p file that x3pio refuses for its form (module docstring)."""
+    """Read an x3p file that x3pio refuses for its form (module docstring); a damaged zip
+    member is a :class:`MalformedFileError`."""
+    try:
+        return _read_lenient_archive(path, layer, why)
+    except (zipfile.BadZipFile, zlib.error, EOFError, RuntimeError, NotImplementedError) as error:
+        raise _bad(path, f"not a valid x3p file: a damaged zip archive ({error})") from None
+
+
+def _read_lenient_archive(path, layer, why) -> HeightMap:
     from defusedxml import ElementTree
 
     try:
@@ -449,7 +458,7 @@ def _read_lenient(path, layer=0, why=None) -> HeightMap:
             raise _bad(path, f"{link} holds {len(raw)} bytes; {size[1]} x {size[0]} x "
                              f"{size[2]} points of {item} need {points * item.itemsize}")
         values = np.frombuffer(raw, dtype=item).astype(np.float64)
-        values = values * z_scale  # as x3pio; the z offset is placement (meta), as x3pio keeps it
+        values = values * z_scale + z_offset  # as ISO 5436-2 and SurfaceTopography
         if dtype in ("I", "L"):
             valid_link = _value(r3, "DataLink", "ValidPointsLink") or _value(r3, "ValidPointsLink")
             valid = None if valid_link is None else _member(archive, root_dir, valid_link)
@@ -471,11 +480,12 @@ def _read_lenient(path, layer=0, why=None) -> HeightMap:
             else (abs(dx) * _UM_PER_M,)
         r2 = _find(doc, "Record2")
         instrument = _find(r2, "Instrument")
-        offsets = tuple(_number(path, axes, (n, "Offset"), default=0.0) * _UM_PER_M
-                        for n in ("CX", "CY", "CZ"))
+        offsets = (*(_number(path, axes, (n, "Offset"), default=0.0) * _UM_PER_M
+                     for n in ("CX", "CY")), 0.0)
         meta = {
             "feature_type": "surface" if kind == "SUR" else "profile",
             "revision": _value(r1, "Revision"), "layer_count": size[2], "offset": offsets,
+            "z_offset": z_offset * _UM_PER_M,
             "creator": _value(r2, "Creator"), "date": _value(r2, "Date"),
             "instrument": None if instrument is None else " ".join(
                 v for v in (_value(instrument, n) for n in

@@ -68,6 +68,32 @@ def test_interpolate_holes_is_exact_on_a_plane_like_one_triangulation():
         interpolate_holes(plane, holes, methods=("spline",))
 
 
+def test_baseline_widens_its_margin_where_a_hole_has_too_few_measured_neighbours():
+    # a map measured only in two strips (as an FRT map with 27 % holes in large regions): a
+    # held-out point between them has no measured neighbour within 6 points (SciPy's
+    # Delaunay: "No points given"), and within 12 only one column (all on a line)
+    y, x = np.mgrid[0:40, 0:40].astype(float)
+    z = 0.5 * x - 0.25 * y + 3.0
+    z[:, 8:32] = np.nan
+    holes = np.zeros(z.shape, dtype=bool)
+    holes[20, 20] = True
+    z[20, 20] = 0.5 * 20 - 0.25 * 20 + 3.0  # measured, held out
+    notes = []
+    got = interpolate_holes(z, holes, methods=("linear",), margin=6, notes=notes)["linear"]
+    assert got == pytest.approx([8.0])  # a plane: linear interpolation is exact
+    assert notes and "1 of 1 held-out discs had too few measured neighbours" in notes[0]
+    base = interpolate_baseline(np.where(holes, np.nan, z), ~np.isfinite(z) | holes,
+                                np.s_[20:21, 20:21], margin=6, methods=("linear",))
+    assert base.margin == 24 and not base.nearest_only
+    # two measured points on the whole grid: no triangle anywhere, the nearest value
+    sparse = np.full((10, 10), np.nan)
+    sparse[0, 0], sparse[9, 9] = 1.0, 2.0
+    base = interpolate_baseline(sparse, np.isnan(sparse), np.s_[1:2, 1:2], margin=2)
+    assert base.nearest_only and base.values["linear"] == pytest.approx([1.0])
+    with pytest.raises(ValueError, match="no measured point"):
+        interpolate_baseline(np.full((5, 5), np.nan), np.ones((5, 5), bool), np.s_[1:2, 1:2])
+
+
 def test_local_fill_predicts_only_what_it_is_asked():
     z = _ground((48, 48), seed=5)
     z[10:14, 10:14] = np.nan

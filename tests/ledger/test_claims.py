@@ -87,9 +87,13 @@ def test_a_raising_check_is_reported_not_raised(monkeypatch):
 def test_full_flag_reaches_the_check(monkeypatch):
     seen = []
     _fake(monkeypatch, lambda full: seen.append(full) or Check("1", True))
+    monkeypatch.delenv("ROUGHGP_FULL", raising=False)
     ledger.run(full=True)
     ledger.run()
-    assert seen == [True, False]
+    monkeypatch.setenv("ROUGHGP_FULL", "1")  # the one rule: no flag given, the environment
+    ledger.run()
+    ledger.run(full=False)
+    assert seen == [True, False, True, False]
 
 
 def test_figures_are_saved_and_tables_written(monkeypatch, tmp_path):

@@ -128,9 +128,10 @@ def test_x3p_from_another_writer_with_integer_or_float_data(tmp_path, dtype, roo
     h = x3p.read_x3p(path)
     # x3pio reads the first; the root element of x3ptools' files needs the lenient reader
     assert ("lenient" in h.meta.get("reader", "")) == (root == "ISO5436")
-    np.testing.assert_allclose(h.z, raw * 1e-8 * 1e6, rtol=1e-6)  # CZ increment 1e-8 m
+    # CZ increment 1e-8 m, CZ offset 2e-6 m: z = raw * increment + offset (ISO 5436-2)
+    np.testing.assert_allclose(h.z, raw * 1e-8 * 1e6 + 2.0, rtol=1e-6)
     assert h.z.shape == (3, 4) and h.spacing == pytest.approx((0.5, 2.0))
-    assert h.meta["offset"][2] == pytest.approx(2.0)  # the z offset: placement, in um
+    assert h.meta["z_offset"] == pytest.approx(2.0) and h.meta["offset"][2] == 0.0
 
 
 def test_x3p_valid_points_mask_and_damaged_data(tmp_path):

@@ -125,22 +125,28 @@ def test_offsets_creator_and_comment_are_kept(tmp_path):
     from SurfaceTopography import read_topography
     path = _roughgp_file(tmp_path, offset=(1000.0, 2000.0, 3.0), creator="Lab A",
                          comment="a comment")
-    meta = x3p.read_x3p(path).meta
-    np.testing.assert_allclose(meta["offset"], (1000.0, 2000.0, 3.0), rtol=1e-12)
+    reading = x3p.read_x3p(path)
+    meta = reading.meta
+    # x and y place the first point; the z offset is added to the heights (ISO 5436-2), as
+    # SurfaceTopography adds it, so it is 0 in the offset written back
+    np.testing.assert_allclose(meta["offset"], (1000.0, 2000.0, 0.0), rtol=1e-12)
+    assert meta["z_offset"] == pytest.approx(3.0, rel=1e-12)
     assert meta["creator"] == "Lab A" and meta["comment"] == "a comment"
-    # the z offset is the file's: the tools that add it to the heights do so on both sides
     topography = read_topography(str(path))
     np.testing.assert_allclose(topography.heights().T * 1e6, _ramp() + 3.0, rtol=1e-12)
+    np.testing.assert_allclose(reading.z, topography.heights().T * 1e6, rtol=1e-12)
 
 
 def test_write_heights_keeps_the_input_meta(tmp_path):
     source = {"offset": (5.0, 6.0, 0.5), "creator": "Lab B", "comment": "measured on Monday"}
     out = tmp_path / "o.x3p"
     writers.write_heights(out, _ramp(), (DY, DX), "roughgp fill in.x3p: filled", source=source)
-    meta = x3p.read_x3p(out).meta
+    written = x3p.read_x3p(out)
+    meta = written.meta
     assert meta["creator"] == "Lab B"
     assert meta["comment"] == "roughgp fill in.x3p: filled; the input's comment: measured on Monday"
-    np.testing.assert_allclose(meta["offset"], (5.0, 6.0, 0.5), rtol=1e-12)
+    np.testing.assert_allclose(meta["offset"], (5.0, 6.0, 0.0), rtol=1e-12)
+    np.testing.assert_allclose(written.z, _ramp() + 0.5, rtol=1e-12)  # the z offset, added
     csv = tmp_path / "o.csv"
     writers.write_heights(csv, _ramp(), DX, "roughgp fill in.x3p", source=source)
     text = csv.read_text()
@@ -165,7 +171,69 @@ def test_fill_writes_back_the_input_meta_and_what_it_did(tmp_path, capsys):
     assert meta["comment"].startswith("roughgp fill holes.x3p --seed 0: the form")
     assert "2 missing points filled by the GP posterior mean" in meta["comment"]
     assert meta["comment"].endswith("the input's comment: raw")
-    np.testing.assert_allclose(meta["offset"], (10.0, 20.0, 1.0), rtol=1e-12)
+    # the input's z offset (1 um) is in the heights read, so written back once, not twice
+    np.testing.assert_allclose(meta["offset"], (10.0, 20.0, 0.0), rtol=1e-12, atol=1e-12)
+    filled = x3p.read_x3p(out).z
+    measured = np.isfinite(z)
+    np.testing.assert_allclose(filled[measured], z[measured] + 1.0, rtol=1e-9, atol=1e-9)
     sd_meta = x3p.read_x3p(sd).meta
     assert "posterior sd" in sd_meta["comment"]
     np.testing.assert_allclose(sd_meta["offset"], (10.0, 20.0, 0.0), rtol=1e-12, atol=1e-12)
+
+
+def test_integer_heights_with_a_z_offset_read_as_surfacetopography_reads_them(tmp_path):
+    # as openGPS's ISO5436-sample4_bin.x3p: int16 heights, a z increment and a z offset of
+    # -0.5 m; SurfaceTopography reads z = raw * increment + offset, and so does roughgp
+    import x3pio
+    from SurfaceTopography import read_topography
+    heights = 0.486 + 1e-6 * _ramp()  # metres: about 0.486 m, as that sample's z[0, 0]
+    path = tmp_path / "int16-offset.x3p"
+    x3pio.write(path, heights, x_scale=DX * 1e-6, y_scale=DY * 1e-6,
+                z_type=x3pio.DataType.INT16,
+                placement=x3pio.Placement(offset=(0.0, 0.0, -0.5)),
+                coordinate_system=x3pio.CoordinateSystem.GLOBAL,
+                revision=x3pio.Revision(x3p.WRITE_REVISION))
+    info = x3pio.info(path)
+    assert info.header.z.data_type.name == "INT16" and info.placement.offset[2] == -0.5
+    reading = read_measurement(path)
+    theirs = read_topography(str(path)).heights().T * 1e6
+    np.testing.assert_allclose(reading.z, theirs, rtol=1e-12)
+    step = info.header.z.increment * 1e6  # um: 0.986 m stored in int16 steps
+    np.testing.assert_allclose(reading.z, heights * 1e6, rtol=0, atol=0.51 * step)
+    # without the offset the heights would read 0.986 m (the issue's 986 000 against 486 000)
+    assert reading.meta["z_offset"] == pytest.approx(-5e5)
+    assert reading.z[0, 0] == pytest.approx(486000.0, abs=step)
+
+
+def _patched_member(tmp_path, name, *, flag=None, method=None):
+    """A copy of a roughgp x3p whose bindata/data.bin entry claims an encryption flag or an
+    unknown compression method (in its local and its central header)."""
+    raw = bytearray(_roughgp_file(tmp_path).read_bytes())
+    member = b"bindata/data.bin"
+    for signature, flag_at, method_at, name_at in ((b"PK\x03\x04", 6, 8, 30),
+                                                   (b"PK\x01\x02", 8, 10, 46)):
+        at = raw.find(signature)
+        while raw[at + name_at:at + name_at + len(member)] != member:
+            at = raw.find(signature, at + 4)
+        if flag is not None:
+            raw[at + flag_at] |= flag
+        if method is not None:
+            raw[at + method_at:at + method_at + 2] = method.to_bytes(2, "little")
+    path = tmp_path / name
+    path.write_bytes(bytes(raw))
+    return path
+
+
+def test_encrypted_or_unknown_compression_members_are_refused_plainly(tmp_path):
+    encrypted = _patched_member(tmp_path, "encrypted.x3p", flag=0x1)
+    with pytest.raises(x3p.MalformedFileError, match="encrypted.x3p: the zip member "
+                                                     "'bindata/data.bin' is encrypted"):
+        read_measurement(encrypted)
+    packed = _patched_member(tmp_path, "packed.x3p", method=99)
+    with pytest.raises(x3p.MalformedFileError, match="packed.x3p: .* compressed with method "
+                                                     "99, which roughgp cannot decompress"):
+        read_measurement(packed)
+    for path in (encrypted, packed):  # what x3pio alone raises: RuntimeError, NotImplementedError
+        import x3pio
+        with pytest.raises((RuntimeError, NotImplementedError, x3pio.X3pError)):
+            x3pio.read(path)

@@ -127,6 +127,8 @@ class FillSelfCheck:
         sd: the GP's predictive sd of a new measurement there, ``sqrt(sd^2 + sigma^2)``.
         nu: the smoothness of the kernel checked.
         seconds: wall time (the GP's fill and the interpolation).
+        baseline_note: what the linear baseline had to do beyond the usual (a wider margin
+            for discs with too few measured neighbours), or ``""``.
     """
 
     held_out: np.ndarray
@@ -135,6 +137,7 @@ class FillSelfCheck:
     sd: np.ndarray
     nu: float
     seconds: float
+    baseline_note: str = ""
 
     @property
     def n_points(self) -> int:
@@ -167,7 +170,8 @@ class FillSelfCheck:
         return (f"{self.n_points} measured points held out and filled (nu {self.nu:g}): RMSE "
                 f"GP {r['GP']:.4g} {unit}, linear interpolation {r['linear']:.4g} {unit} (the "
                 f"GP {verdict}); +-2 sd held {self.coverage():.1%}; the calibrated 95 % band is "
-                f"+-{self.band_factor:.3g} sd")
+                f"+-{self.band_factor:.3g} sd"
+                + (f" ({self.baseline_note})" if self.baseline_note else ""))
 
 
 def self_check_fill(residual, kernel, *, noise_variance, spacing, held_out, nu=0.5, tile=8,
@@ -184,11 +188,12 @@ def self_check_fill(residual, kernel, *, noise_variance, spacing, held_out, nu=0
     start = time.perf_counter()
     gp = fill_gaps_locally(residual, kernel, noise_variance=noise_variance, spacing=spacing,
                            mask=held_out, predict=held_out, tile=tile, margin=margin)
-    linear = interpolate_holes(residual, held_out, methods=("linear",))["linear"]
+    notes = []
+    linear = interpolate_holes(residual, held_out, methods=("linear",), notes=notes)["linear"]
     estimates = {"GP": gp.mean[held_out], "linear": linear}
     sd = predictive_sd(gp.sd[held_out], noise_variance)
     return FillSelfCheck(held_out, residual[held_out], estimates, sd, float(nu),
-                         time.perf_counter() - start)
+                         time.perf_counter() - start, "; ".join(notes))
 
 
 def mse_difference(a: FillSelfCheck, b: FillSelfCheck) -> tuple[float, float]:
