@@ -12,8 +12,6 @@ from roughgp.cli.output import (
     print_wrapped,
     write_json,
 )
-from roughgp.metrology.measurement import read_measurement
-from roughgp.metrology.texture_report import filtered_parameters, unit_of
 
 __all__ = ['add_parser', 'run']
 
@@ -56,6 +54,8 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
 
 def run(args) -> int:
     """``roughgp texture FILE``: ISO surface-texture parameters."""
+    from roughgp.metrology.measurement import read_measurement
+    from roughgp.metrology.texture_report import filtered_parameters, unit_of
     check_spacing(args.spacing)
     operators = operator_settings(args)
     check_outputs(("--json", args.json, "json"), inputs=(args.file,), force=args.force)

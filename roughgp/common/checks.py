@@ -3,12 +3,14 @@ parameter and the allowed range, so bad input never turns into a silent NaN."""
 
 from __future__ import annotations
 
+import sys
+
 import numpy as np
-import torch
 
 
 def _as_numpy(value) -> np.ndarray:
-    if isinstance(value, torch.Tensor):
+    torch = sys.modules.get("torch")  # a tensor exists only once torch is imported
+    if torch is not None and isinstance(value, torch.Tensor):
         return value.detach().cpu().numpy()
     return np.asarray(value)
 
