@@ -18,6 +18,7 @@ from roughgp.cli.output import (
     write_json,
 )
 from roughgp.metrology.measurement import read_measurement
+from roughgp.metrology.writers import atomic_output
 
 __all__ = ['add_parser', 'run']
 
@@ -94,8 +95,9 @@ def run(args) -> int:
                               "seed": args.seed, **result.to_dict()})
     if plot is not None:
         import matplotlib.pyplot as plt
-        figure = plot_model_check(result, plot, title=f"{args.file}: the measurement (line) "
-                                                      f"among {args.simulations} simulations")
+        with atomic_output(plot) as partial:  # whole or not at all; missing folders made
+            figure = plot_model_check(result, partial, title=f"{args.file}: the measurement "
+                                      f"(line) among {args.simulations} simulations")
         plt.close(figure)
         err(f"wrote {plot}")
     return 0

@@ -23,6 +23,7 @@ from roughgp.cli.output import (
     print_wrapped,
 )
 from roughgp.metrology.measurement import mean_profile, read_measurement
+from roughgp.metrology.writers import atomic_output
 
 __all__ = ['add_parser', 'run', 'MAX_MIXTURES', 'MAX_CANDIDATES', 'MAX_PROFILE_POINTS']
 
@@ -153,7 +154,8 @@ def run(args) -> int:
         model = _fit_ground(args, heights, operators, data)
     err(f"({time.perf_counter() - start:.1f} s)")
     if out is not None:
-        model.save(out)
+        with atomic_output(out) as partial:  # whole or not at all; missing folders made
+            model.save(partial)
         err(f"wrote {out} (roughgp model file; roughgp simulate --from {out.name} ...)")
     return 0
 
