@@ -16,7 +16,7 @@ import numpy as np
 from roughgp.metrology.writers import atomic_output, check_write_format
 
 __all__ = ["UsageError", "WIDTH", "err", "show_warning", "wrap", "print_wrapped", "table",
-           "write_json", "check_output", "check_outputs", "add_force_option", "check_spacing",
+           "write_json", "check_output", "check_outputs", "add_force_option",
            "check_device", "describe_groove", "shell_message", "rename_parameters",
            "check_block"]
 
@@ -141,7 +141,10 @@ def _same_file(a: Path, b: Path) -> bool:
             return os.path.samefile(a, b)
     except OSError:
         pass
-    return a.resolve() == b.resolve()
+    try:
+        return a.resolve() == b.resolve()
+    except (OSError, RuntimeError):  # a symbolic link loop: compare the names as given
+        return os.path.abspath(a) == os.path.abspath(b)
 
 
 def _check_writable(path: Path, option: str) -> None:
@@ -222,12 +225,6 @@ def add_force_option(parser) -> None:
     """``--force``: the option that lets a command write over an existing file."""
     parser.add_argument("--force", action="store_true",
                         help="write over existing output files (never over the input)")
-
-
-def check_spacing(spacing, option: str = "--spacing") -> None:
-    """A usage error naming ``option`` unless ``spacing`` is None or finite and > 0 (um)."""
-    if spacing is not None and not (math.isfinite(spacing) and spacing > 0):
-        raise UsageError(f"{option} must be > 0 (um), got {spacing!r}")
 
 
 def check_device(device, option: str = "--device") -> None:
