@@ -172,14 +172,11 @@ def run(args) -> int:
     write_heights(out, result.filled, spacing, comment, source=heights.meta)
     err(f"wrote {out} (the measured heights, the {missing.sum()} missing ones filled by the "
         f"posterior mean)")
-    offset = heights.meta.get("offset")  # an sd or a band is no height: no z offset
-    spread_source = {**heights.meta,
-                     "offset": None if offset is None else (*tuple(offset)[:2], 0.0)}
     if sd_out is not None:
         write_heights(sd_out, result.sd, spacing,
                       comment + "; this file: the posterior sd"
                       + (f" ({samples} draws)" if args.method == "global" else ""),
-                      source=spread_source)
+                      source=heights.meta, spread=True)
         sd = result.sd[missing]
         err(f"wrote {sd_out} (posterior sd of the latent surface at the filled points, 0 at "
             f"measured ones; median {np.median(sd):.3g} um, largest {sd.max():.3g} um)")
@@ -189,7 +186,7 @@ def run(args) -> int:
         write_heights(band_out, result.band, spacing,
                       comment + f"; this file: the half-width of the 95 % band of a new "
                       f"measurement, {result.band_factor:.3g} sd ({how})",
-                      source=spread_source)
+                      source=heights.meta, spread=True)
         err(f"wrote {band_out} (the 95 % band's half-width at the filled points: "
             f"{result.band_factor:.3g} predictive sd, {how}; 0 at measured ones)")
     return 0

@@ -61,17 +61,21 @@ def atomic_output(path):
         raise
 
 
-def _kept(source) -> dict:
-    """What an input file said that an output keeps: offset, creator, comment (None if not)."""
+def _kept(source, spread: bool = False) -> dict:
+    """What an input file said that an output keeps: offset, creator, comment (None if not);
+    a ``spread`` (an sd, a band's half-width) keeps the x and y offsets, its z offset is 0."""
     source = source or {}
     offset = source.get("offset")
     if offset is not None and (len(offset) != 3 or not np.all(np.isfinite(offset))):
         offset = None
+    if offset is not None and spread:
+        offset = (*tuple(offset)[:2], 0.0)
     return {"offset": None if offset is None else tuple(float(v) for v in offset),
             "creator": source.get("creator") or None, "comment": source.get("comment") or None}
 
 
-def write_heights(path, z: np.ndarray, spacing, comment: str, *, source=None) -> None:
+def write_heights(path, z: np.ndarray, spacing, comment: str, *, source=None,
+                  spread: bool = False) -> None:
     """Write heights ``z`` (µm; ``z[ix]`` or ``z[iy, ix]``) with ``spacing`` (µm) in the format
     of the extension (:data:`WRITE_FORMATS`); ``comment`` (what was done: the command and the
     operators applied) goes into the file's header.
@@ -79,10 +83,12 @@ def write_heights(path, z: np.ndarray, spacing, comment: str, *, source=None) ->
     ``source``: the ``meta`` of the input (:class:`roughgp.metrology.measurement.Measurement`),
     whose offsets (x, y, z of the first point, µm), creator and comment the file keeps: in the
     x3p's own fields (axis offsets, ``Creator``; the input's comment after ``comment``), as
-    ``#`` lines of a ``.csv``; a ``.npy`` holds the heights alone.
+    ``#`` lines of a ``.csv``; a ``.npy`` holds the heights alone. ``spread``: ``z`` is no
+    height but a spread about one (a posterior sd, a band's half-width): the input's z
+    offset is not added to it (its x and y offsets are kept).
     """
     path = check_write_format(path)
-    kept = _kept(source)
+    kept = _kept(source, spread)
     if kept["comment"]:
         comment = f"{comment}; the input's comment: {kept['comment']}"
     with atomic_output(path) as partial:

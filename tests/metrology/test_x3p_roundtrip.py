@@ -169,3 +169,10 @@ def test_fill_writes_back_the_input_meta_and_what_it_did(tmp_path, capsys):
     sd_meta = x3p.read_x3p(sd).meta
     assert "posterior sd" in sd_meta["comment"]
     np.testing.assert_allclose(sd_meta["offset"], (10.0, 20.0, 0.0), rtol=1e-12, atol=1e-12)
+
+
+def test_a_spread_keeps_the_x_and_y_offsets_but_not_the_z_offset(tmp_path):
+    source = {"offset": (5.0, 6.0, 0.5), "creator": "Lab B"}
+    out = tmp_path / "sd.x3p"
+    writers.write_heights(out, _ramp(), (DY, DX), "an sd", source=source, spread=True)
+    np.testing.assert_allclose(x3p.read_x3p(out).meta["offset"], (5.0, 6.0, 0.0), rtol=1e-12)
