@@ -197,8 +197,8 @@ def test_sigint_during_a_write_leaves_no_partial_file(tmp_path):
 def test_sigint_during_simulate_keeps_the_old_file_whole(tmp_path):
     out = tmp_path / "x.csv"
     out.write_text("# the file from before\n1,2,3\n")
-    argv = [sys.executable, "-m", "roughgp.cli.main", "simulate", "ground", "--shape", "2000",
-            "2000", "--lambda-a", "4", "--lambda-b", "2", "--seed", "1", "--out", str(out),
+    argv = [sys.executable, "-m", "roughgp.cli.main", "simulate", "ground", "--shape", "1200",
+            "1200", "--lambda-a", "4", "--lambda-b", "2", "--seed", "1", "--out", str(out),
             "--force"]
     code = _interrupt_while_writing(argv, tmp_path)
     assert code == 130
