@@ -67,8 +67,10 @@ def check_block(path, block: int, shape) -> None:
                          f"on blocks of at least 4 x 4 points, so the map needs at least 4 "
                          f"points along each axis")
     if block > side:
+        from roughgp.cli.options import BOUNDS  # imported here: options imports this module
+        low, high = BOUNDS["--block"].low, BOUNDS["--block"].high
         raise UsageError(f"--block {block} exceeds the shorter side of {path} ({side} points): "
-                         f"give --block 4 to {min(side, 64)}")
+                         f"give --block {low} to {min(side, high)}")
 
 
 def err(message: str) -> None:
