@@ -7,17 +7,16 @@ from __future__ import annotations
 import math
 import time
 
-from roughgp.cli.options import load_model
+from roughgp.cli.options import bounds_text, load_model, read_input
 from roughgp.cli.output import (
     UsageError,
     add_force_option,
     check_outputs,
-    check_spacing,
     err,
     print_wrapped,
     write_json,
 )
-from roughgp.metrology.measurement import read_measurement
+from roughgp.metrology.writers import atomic_output
 
 __all__ = ['add_parser', 'run']
 
@@ -45,9 +44,10 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     c.add_argument("model", metavar="MODEL.json", help="a model file of 'roughgp fit'")
     add_input_options(c, kind=False, what="the measurement the model was fitted to (or another)")
     c.add_argument("--simulations", type=int, default=19, metavar="N",
-                   help="simulations of the model, 2 to 999 (default 19)")
+                   help=f"simulations of the model, {bounds_text('--simulations')} (default "
+                        f"19)")
     c.add_argument("--seed", type=int, default=0, metavar="S",
-                   help="seed of the simulations (default 0)")
+                   help=f"seed of the simulations, {bounds_text('--seed')} (default 0)")
     c.add_argument("--plot", metavar="FIGURE", help="write the figure (.png, .pdf or .svg)")
     c.add_argument("--json", metavar="OUT", help="also write the table as JSON (.json)")
     add_force_option(c)
@@ -57,17 +57,14 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
 def run(args) -> int:
     """``roughgp check MODEL FILE``."""
     from roughgp.beyond.measured.check import check_model, plot_model_check
-    check_spacing(args.spacing)
-    if not 2 <= args.simulations <= 999:
-        raise UsageError(f"--simulations must be in [2, 999], got {args.simulations}")
     json_out, plot = check_outputs(("--json", args.json, "json"), ("--plot", args.plot, "plot"),
                                    inputs=(args.file, args.model), force=args.force)
     model = load_model(args.model)
-    heights = read_measurement(args.file, kind=model.kind, spacing=args.spacing,
-                               channel=args.channel, unit=args.unit)
+    heights = read_input(args)  # what the file holds: a 2-column profile is no 512 x 2 surface
     if heights.kind != model.kind:
-        raise UsageError(f"{args.file} holds a {heights.kind}; {args.model} is a {model.kind} "
-                         f"model")
+        raise UsageError(f"{args.file} holds a {heights.kind} ("
+                         f"{' x '.join(map(str, heights.z.shape))} points); {args.model} is a "
+                         f"{model.kind} model: check it against a {model.kind}")
     err(f"simulating {args.simulations} {model.kind}s of {' x '.join(map(str, heights.z.shape))}"
         f" points from {args.model} ...")
     start = time.perf_counter()
@@ -94,8 +91,9 @@ def run(args) -> int:
                               "seed": args.seed, **result.to_dict()})
     if plot is not None:
         import matplotlib.pyplot as plt
-        figure = plot_model_check(result, plot, title=f"{args.file}: the measurement (line) "
-                                                      f"among {args.simulations} simulations")
+        with atomic_output(plot) as partial:  # whole or not at all; missing folders made
+            figure = plot_model_check(result, partial, title=f"{args.file}: the measurement "
+                                      f"(line) among {args.simulations} simulations")
         plt.close(figure)
         err(f"wrote {plot}")
     return 0

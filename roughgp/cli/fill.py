@@ -9,23 +9,19 @@ from pathlib import Path
 
 import numpy as np
 
-from roughgp.cli.options import add_form_options
+from roughgp.cli.options import add_form_options, bounds_text, read_input
 from roughgp.cli.output import (
     UsageError,
     add_force_option,
     check_block,
     check_device,
     check_outputs,
-    check_spacing,
     describe_groove,
     err,
 )
-from roughgp.metrology.measurement import read_measurement
 from roughgp.metrology.writers import WRITE_FORMATS, write_heights
 
-__all__ = ['add_parser', 'run', 'MAX_SAMPLES']
-
-MAX_SAMPLES = 256
+__all__ = ['add_parser', 'run']
 
 
 _FILL = """\
@@ -74,15 +70,17 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     f.add_argument("--method", choices=("local", "global"), default="local",
                    help="local (default): moving-window kriging; global: all points by CG")
     f.add_argument("--samples", type=int, default=16, metavar="N",
-                   help=f"--method global: pathwise draws for --sd, 2 to {MAX_SAMPLES} "
-                        f"(default 16)")
+                   help=f"--method global: pathwise draws for --sd, "
+                        f"{bounds_text('--samples')} (default 16)")
     f.add_argument("--seed", type=int, default=0, metavar="S",
-                   help="seed of the blocks chosen for the fit and of the draws (default 0)")
+                   help=f"seed of the blocks chosen for the fit and of the draws, "
+                        f"{bounds_text('--seed')} (default 0)")
     add_force_option(f)
     f.add_argument("--block", type=int, default=24, metavar="B",
-                   help="side of the fit's blocks in points, 4 to 64 (default 24)")
+                   help=f"side of the fit's blocks in points, {bounds_text('--block')} "
+                        f"(default 24)")
     f.add_argument("--blocks", type=int, default=12, metavar="K",
-                   help="blocks used by the fit, 1 to 200 (default 12)")
+                   help=f"blocks used by the fit, {bounds_text('--blocks')} (default 12)")
     f.add_argument("--device", metavar="DEV",
                    help="--method global: run the FFTs and CG through torch on DEV (cpu, "
                         "cuda, cuda:N)")
@@ -103,24 +101,12 @@ def run(args) -> int:
                          "(leave out one of them)")
     if nu == "auto" and not args.check:
         raise UsageError("--nu auto chooses by the self-check; it cannot run with --no-check")
-    if not 0 <= args.samples <= MAX_SAMPLES:
-        raise UsageError(f"--samples must be in [0, {MAX_SAMPLES}], got {args.samples}")
-    if sd_out is not None and args.method == "global" and args.samples < 2:
-        raise UsageError("--sd needs --samples >= 2 (the sd is estimated from the draws)")
-    if not 4 <= args.block <= 64:
-        raise UsageError(f"--block must be in [4, 64], got {args.block}")
-    if not 1 <= args.blocks <= 200:
-        raise UsageError(f"--blocks must be in [1, 200], got {args.blocks}")
-    if args.degree < 1:
-        raise UsageError(f"--degree must be >= 1, got {args.degree}")
     model = load_model(args.model, "--model") if args.model else None
     if model is not None and model.kind != "surface":
         raise UsageError(f"--model {args.model} is a {model.kind} model ({model.equation}); "
                          f"fill needs a surface model (roughgp fit ground)")
     check_device(args.device)
-    check_spacing(args.spacing)
-    heights = read_measurement(args.file, kind="surface", spacing=args.spacing,
-                               channel=args.channel, unit=args.unit)
+    heights = read_input(args, "surface")
     for note in heights.notes:
         err(f"note: {args.file}: {note}")
     if heights.kind != "surface":
@@ -186,14 +172,11 @@ def run(args) -> int:
     write_heights(out, result.filled, spacing, comment, source=heights.meta)
     err(f"wrote {out} (the measured heights, the {missing.sum()} missing ones filled by the "
         f"posterior mean)")
-    offset = heights.meta.get("offset")  # an sd or a band is no height: no z offset
-    spread_source = {**heights.meta,
-                     "offset": None if offset is None else (*tuple(offset)[:2], 0.0)}
     if sd_out is not None:
         write_heights(sd_out, result.sd, spacing,
                       comment + "; this file: the posterior sd"
                       + (f" ({samples} draws)" if args.method == "global" else ""),
-                      source=spread_source)
+                      source=heights.meta, spread=True)
         sd = result.sd[missing]
         err(f"wrote {sd_out} (posterior sd of the latent surface at the filled points, 0 at "
             f"measured ones; median {np.median(sd):.3g} um, largest {sd.max():.3g} um)")
@@ -203,7 +186,7 @@ def run(args) -> int:
         write_heights(band_out, result.band, spacing,
                       comment + f"; this file: the half-width of the 95 % band of a new "
                       f"measurement, {result.band_factor:.3g} sd ({how})",
-                      source=spread_source)
+                      source=heights.meta, spread=True)
         err(f"wrote {band_out} (the 95 % band's half-width at the filled points: "
             f"{result.band_factor:.3g} predictive sd, {how}; 0 at measured ones)")
     return 0

@@ -12,22 +12,26 @@ from pathlib import Path
 
 import numpy as np
 
-from roughgp.cli.options import add_operator_options, operator_settings
+from roughgp.cli.options import (
+    add_operator_options,
+    bounds_text,
+    check_cutoffs,
+    operator_settings,
+    read_input,
+)
 from roughgp.cli.output import (
     UsageError,
     add_force_option,
     check_block,
     check_outputs,
-    check_spacing,
     err,
     print_wrapped,
 )
-from roughgp.metrology.measurement import mean_profile, read_measurement
+from roughgp.metrology.measurement import mean_profile
+from roughgp.metrology.writers import atomic_output
 
-__all__ = ['add_parser', 'run', 'MAX_MIXTURES', 'MAX_CANDIDATES', 'MAX_PROFILE_POINTS']
+__all__ = ['add_parser', 'run', 'MAX_PROFILE_POINTS']
 
-MAX_MIXTURES = 50
-MAX_CANDIDATES = 200
 #: the exact eq 21 likelihood costs O(n^2) per step: beyond this it takes hours
 MAX_PROFILE_POINTS = 65536
 
@@ -80,7 +84,8 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                               title="models (roughgp fit MODEL --help for each)")
     shared = argparse.ArgumentParser(add_help=False)
     shared.add_argument("--seed", type=int, default=0, metavar="S",
-                        help="seed of the fit's initialisations or blocks (default 0)")
+                        help=f"seed of the fit's initialisations or blocks, "
+                             f"{bounds_text('--seed')} (default 0)")
     shared.add_argument("--non-gaussian", action="store_true",
                         help="keep the heights' skewness and kurtosis in the model")
     shared.add_argument("--out", metavar="MODEL.json", help="write the model file (.json)")
@@ -91,10 +96,10 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     add_input_options(p)
     add_operator_options(p, s_default="none", l_default="none")
     p.add_argument("--mixtures", type=int, default=5, metavar="Q",
-                   help=f"spectral-mixture components, 1 to {MAX_MIXTURES} (default 5, the "
-                        f"paper's)")
+                   help=f"spectral-mixture components, {bounds_text('--mixtures')} (default "
+                        f"5, the paper's)")
     p.add_argument("--candidates", type=int, default=10, metavar="N",
-                   help=f"initialisations scored, 1 to {MAX_CANDIDATES} (default 10)")
+                   help=f"initialisations scored, {bounds_text('--candidates')} (default 10)")
     p.add_argument("--profile-axis", choices=("x", "y"), default="x",
                    help="for a surface: the direction of the mean profile (default x)")
     add_force_option(p)
@@ -109,9 +114,10 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                    help="smoothness: 0.5 is eq 18 (default); 1.5 or 2.5 its anisotropy with a "
                         "smoother Matern profile, for smooth surfaces (beyond the paper)")
     g.add_argument("--block", type=int, default=24, metavar="B",
-                   help="side of the fit's blocks in points, 4 to 64 (default 24)")
+                   help=f"side of the fit's blocks in points, {bounds_text('--block')} "
+                        f"(default 24)")
     g.add_argument("--blocks", type=int, default=12, metavar="K",
-                   help="blocks used by the fit, 1 to 200 (default 12)")
+                   help=f"blocks used by the fit, {bounds_text('--blocks')} (default 12)")
     add_force_option(g)
     g.set_defaults(func=run)
 
@@ -124,24 +130,12 @@ def _checksum(path) -> str:
     return digest.hexdigest()
 
 
-def _check_range(option, value, low, high):
-    if not low <= value <= high:
-        raise UsageError(f"{option} must be in [{low}, {high}], got {value}")
-
-
 def run(args) -> int:
     """``roughgp fit MODEL FILE``."""
-    check_spacing(args.spacing)
     operators = operator_settings(args)
     (out,) = check_outputs(("--out", args.out, "json"), inputs=(args.file,), force=args.force)
-    if args.model == "profile":
-        _check_range("--mixtures", args.mixtures, 1, MAX_MIXTURES)
-        _check_range("--candidates", args.candidates, 1, MAX_CANDIDATES)
-    else:
-        _check_range("--block", args.block, 4, 64)
-        _check_range("--blocks", args.blocks, 1, 200)
-    heights = read_measurement(args.file, kind=getattr(args, "kind", "surface"),
-                               spacing=args.spacing, channel=args.channel, unit=args.unit)
+    heights = read_input(args, getattr(args, "kind", "surface"))
+    check_cutoffs(operators, heights.z.shape, heights.spacing)
     for note in heights.notes:
         err(f"note: {args.file}: {note}")
     data = {"file": Path(args.file).name, "sha256": _checksum(args.file),
@@ -153,7 +147,8 @@ def run(args) -> int:
         model = _fit_ground(args, heights, operators, data)
     err(f"({time.perf_counter() - start:.1f} s)")
     if out is not None:
-        model.save(out)
+        with atomic_output(out) as partial:  # whole or not at all; missing folders made
+            model.save(partial)
         err(f"wrote {out} (roughgp model file; roughgp simulate --from {out.name} ...)")
     return 0
 

@@ -19,6 +19,7 @@ import os
 import sys
 import warnings
 
+from roughgp.cli.options import check_bounds
 from roughgp.cli.output import UsageError, err, shell_message, show_warning
 from roughgp.cli.parser import build_parser
 from roughgp.metrology.readers import MalformedFileError
@@ -36,8 +37,10 @@ def main(argv=None) -> int:
     if args.command is None:
         parser.print_help(sys.stderr)
         return 2
-    name = f"roughgp {args.command}" + (f" {args.kind}" if args.command == "simulate" else "")
+    kind = getattr(args, "kind", None) if args.command == "simulate" else None
+    name = f"roughgp {args.command}" + (f" {kind}" if kind else "")
     try:
+        check_bounds(args)
         with warnings.catch_warnings():
             warnings.showwarning = show_warning
             code = args.func(args)

@@ -1,17 +1,86 @@
-"""Options that several commands share: the F-, S- and L-operators (texture, fit) and a
-model file (simulate, check, fill). Argument handling only.
+"""Options that several commands share: the bounds of every numeric option (one table,
+:data:`BOUNDS`), the F-, S- and L-operators (texture, fit), a model file (simulate, check,
+fill) and the seed. Argument handling only.
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
+import secrets
 
-from roughgp.cli.output import UsageError
+from roughgp.cli.output import UsageError, err
 from roughgp.common.checks import check_scale
 
-__all__ = ["cutoff", "add_form_options", "add_operator_options", "operator_settings",
-           "load_model", "check_scales"]
+__all__ = ["Bound", "BOUNDS", "bounds_text", "check_bounds", "cutoff", "add_form_options",
+           "add_operator_options", "operator_settings", "check_cutoffs", "load_model",
+           "check_scales", "seed_or_fresh", "read_input", "Given"]
+
+
+@dataclasses.dataclass(frozen=True)
+class Bound:
+    """The allowed range ``[low, high]`` of a numeric option, in ``unit``."""
+
+    low: float
+    high: float
+    unit: str = ""
+
+    def numbers(self, joint: str) -> str:
+        """The two ends, integers as integers: ``"4 to 32"``, ``"1e-06, 1e+06"``."""
+        return joint.join(f"{v}" if isinstance(v, int) else f"{v:g}"
+                          for v in (self.low, self.high))
+
+    def text(self) -> str:
+        """``"4 to 32"``, ``"1e-06 to 1e+06 um"``: the range as the help states it."""
+        return self.numbers(" to ") + (f" {self.unit}" if self.unit else "")
+
+
+#: Every bounded numeric option of every command, checked by :func:`check_bounds` before the
+#: command runs and quoted by its ``--help`` (:func:`bounds_text`). The work-bound ranges
+#: were measured on the 2-core reference machine (2026-12-02): a fit of eq 18 costs about
+#: block^6 (a dense likelihood of block^2 points per block and step); ``check`` simulates and
+#: measures the map once per simulation. Lengths: a picometre to a metre.
+BOUNDS = {
+    "--seed": Bound(0, 2**32 - 1),
+    "--spacing": Bound(1e-6, 1e6, "um"),
+    "--s-filter": Bound(1e-6, 1e6, "um"),
+    "--l-filter": Bound(1e-6, 1e6, "um"),
+    "--degree": Bound(1, 10),
+    "--channel": Bound(0, 255),
+    "--mixtures": Bound(1, 50),
+    "--candidates": Bound(1, 200),
+    "--block": Bound(4, 32),
+    "--blocks": Bound(1, 200),
+    "--simulations": Bound(2, 99),
+    "--samples": Bound(2, 256),
+}
+
+
+def bounds_text(option: str) -> str:
+    """The range of ``option`` for its help: ``"4 to 32"``."""
+    return BOUNDS[option].text()
+
+
+def check_bounds(args) -> None:
+    """Each option of :data:`BOUNDS` that the command has and was given a number: within its
+    range, or a :class:`UsageError` naming the option and the range (before any work)."""
+    for option, bound in BOUNDS.items():
+        value = getattr(args, option.lstrip("-").replace("-", "_"), None)
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            continue  # not this command's, not given, or a word (auto, none)
+        if not (math.isfinite(value) and bound.low <= value <= bound.high):
+            unit = f" {bound.unit}" if bound.unit else ""
+            raise UsageError(f"{option} must be in [{bound.numbers(', ')}]{unit}, got "
+                             f"{value:g}")
+
+
+def seed_or_fresh(seed):
+    """``seed``, or a fresh one (printed, so the draw can be repeated) when it is None."""
+    if seed is None:
+        seed = secrets.randbelow(2 ** 31)
+        err(f"seed: {seed} (pass --seed {seed} to draw the same surface again)")
+    return seed
 
 
 def check_scales(*options) -> None:
@@ -45,10 +114,12 @@ def cutoff(text):
 def add_form_options(parser, what="F-operator") -> None:
     """--form, --degree, --axis: the F-operator."""
     parser.add_argument("--form", choices=("plane", "polynomial", "cylinder", "none"),
-                        default="plane", help=f"{what} (default plane: a line for a profile)")
-    parser.add_argument("--degree", type=int, default=2, metavar="N",
-                        help="degree of --form polynomial (default 2)")
-    parser.add_argument("--axis", choices=("auto", "x", "y"), default="auto",
+                        default="plane", action=Given,
+                        help=f"{what} (default plane: a line for a profile)")
+    parser.add_argument("--degree", type=int, default=2, metavar="N", action=Given,
+                        help=f"degree of --form polynomial, {bounds_text('--degree')} "
+                             f"(default 2)")
+    parser.add_argument("--axis", choices=("auto", "x", "y"), default="auto", action=Given,
                         help="the axis of --form cylinder (default auto: the better fit)")
 
 
@@ -56,22 +127,59 @@ def add_operator_options(parser, *, s_default="auto", l_default="auto") -> None:
     """--form, --degree, --axis, --s-filter, --l-filter."""
     add_form_options(parser)
     parser.add_argument("--s-filter", type=cutoff, default=s_default, metavar="S",
-                        help=f"S-filter nesting index in um, auto or none (default {s_default})")
+                        action=Given,
+                        help=f"S-filter nesting index in um ({bounds_text('--s-filter')}, at "
+                             f"most the field's length), auto or none (default {s_default})")
     parser.add_argument("--l-filter", type=cutoff, default=l_default, metavar="L",
-                        help=f"L-filter nesting index (cut-off) in um, auto or none (default "
-                             f"{l_default})")
+                        action=Given,
+                        help=f"L-filter nesting index (cut-off) in um ("
+                             f"{bounds_text('--l-filter')}, at most the field's length), auto "
+                             f"or none (default {l_default})")
 
 
 def operator_settings(args) -> dict:
     """``form``, ``s``, ``l``, ``degree``, ``axis`` for the library from the options."""
-    if args.degree < 1:
-        raise UsageError(f"--degree must be >= 1, got {args.degree}")
-
     def length(value):
         return None if value == "none" else value
 
     return {"form": None if args.form == "none" else args.form, "s": length(args.s_filter),
             "l": length(args.l_filter), "degree": args.degree, "axis": args.axis}
+
+
+def read_input(args, kind="auto"):
+    """The measurement of ``args.file`` (:func:`roughgp.metrology.measurement.read_measurement`
+    with the input options), refusing ``--unit`` where the reader has no use for it: only
+    instrument files take a unit from it; a ``.npy`` (heights in um), an ``.x3p`` (metres) and
+    text files (their header or um) have theirs."""
+    from roughgp.metrology.measurement import read_measurement
+    heights = read_measurement(args.file, kind=kind, spacing=args.spacing,
+                               channel=args.channel, unit=args.unit)
+    if args.unit is not None and "unit" not in heights.meta:  # instrument readers set it
+        raise UsageError(f"--unit {args.unit}: {args.file} is read by {heights.reader} (heights: "
+                         f"{heights.unit_source}); --unit applies to instrument files only: "
+                         f"convert the heights to um, or drop --unit")
+    return heights
+
+
+class Given(argparse.Action):
+    """Store the value, and record the option in ``namespace.given`` (the options typed, as
+    against defaults: ``--unfiltered`` refuses an operator option that was given)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        setattr(namespace, self.dest, values)
+        namespace.given = (*getattr(namespace, "given", ()), option_string)
+
+
+def check_cutoffs(operators: dict, shape, spacing) -> None:
+    """The S- and L-filter nesting indices against the field that was read: at most its longer
+    side (a longer Gaussian filter averages the whole field, and its kernel outgrows it);
+    a :class:`UsageError` naming the option and the field's length otherwise."""
+    extent = max(n * d for n, d in zip(shape, spacing))
+    for option, key in (("--s-filter", "s"), ("--l-filter", "l")):
+        value = operators.get(key)
+        if isinstance(value, (int, float)) and value > extent:
+            raise UsageError(f"{option} {value:g} um exceeds the field ({extent:.4g} um along "
+                             f"its longer side): give at most {extent:.4g} um, or auto")
 
 
 def load_model(path, option="MODEL"):
@@ -82,5 +190,12 @@ def load_model(path, option="MODEL"):
         return FittedModel.load(path)
     except FileNotFoundError:
         raise UsageError(f"{option}: no such model file: {path}") from None
+    except IsADirectoryError:
+        raise UsageError(f"{option}: {path} is a directory, not a model file") from None
+    except PermissionError:
+        raise UsageError(f"{option}: {path} cannot be read (permission denied)") from None
+    except (OSError, RuntimeError) as exc:  # a symbolic link loop (RuntimeError in pathlib)
+        why = getattr(exc, "strerror", None) or str(exc)
+        raise UsageError(f"{option}: cannot read the model file {path}: {why}") from None
     except ModelFileError as exc:
         raise UsageError(f"{option}: {exc}") from None

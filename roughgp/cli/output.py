@@ -13,10 +13,10 @@ from pathlib import Path
 
 import numpy as np
 
-from roughgp.metrology.writers import check_write_format
+from roughgp.metrology.writers import atomic_output, check_write_format
 
 __all__ = ["UsageError", "WIDTH", "err", "show_warning", "wrap", "print_wrapped", "table",
-           "write_json", "check_output", "check_outputs", "add_force_option", "check_spacing",
+           "write_json", "check_output", "check_outputs", "add_force_option",
            "check_device", "describe_groove", "shell_message", "rename_parameters",
            "check_block"]
 
@@ -67,8 +67,10 @@ def check_block(path, block: int, shape) -> None:
                          f"on blocks of at least 4 x 4 points, so the map needs at least 4 "
                          f"points along each axis")
     if block > side:
+        from roughgp.cli.options import BOUNDS  # imported here: options imports this module
+        low, high = BOUNDS["--block"].low, BOUNDS["--block"].high
         raise UsageError(f"--block {block} exceeds the shorter side of {path} ({side} points): "
-                         f"give --block 4 to {min(side, 64)}")
+                         f"give --block {low} to {min(side, high)}")
 
 
 def err(message: str) -> None:
@@ -116,9 +118,12 @@ def _json_value(value):
 
 
 def write_json(path_text: str, record: dict) -> None:
+    """Write ``record`` as JSON to the file named, whole or not at all (numpy scalars as
+    numbers, NaN as null); says which file it wrote."""
     path = Path(path_text)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(_json_value(record), indent=1) + "\n", encoding="utf-8")
+    text = json.dumps(_json_value(record), indent=1) + "\n"
+    with atomic_output(path) as partial:
+        partial.write_text(text, encoding="utf-8")
     err(f"wrote {path}")
 
 
@@ -138,7 +143,10 @@ def _same_file(a: Path, b: Path) -> bool:
             return os.path.samefile(a, b)
     except OSError:
         pass
-    return a.resolve() == b.resolve()
+    try:
+        return a.resolve() == b.resolve()
+    except (OSError, RuntimeError):  # a symbolic link loop: compare the names as given
+        return os.path.abspath(a) == os.path.abspath(b)
 
 
 def _check_writable(path: Path, option: str) -> None:
@@ -164,14 +172,21 @@ PLOT_FORMATS = (".png", ".pdf", ".svg")
 
 
 def check_outputs(*outputs, inputs=(), force=False) -> list:
-    """Check the output files of a command before it computes anything.
+    """The output-path rule of every command, applied before it computes anything.
 
     ``outputs``: ``(option, path text or None, kind)``, where ``kind`` is ``"heights"`` (a
     format of :data:`roughgp.metrology.writers.WRITE_FORMATS`, by the extension) or
-    ``"json"`` (the extension must be ``.json``) or ``"plot"`` (:data:`PLOT_FORMATS`). A
-    usage error naming the option refuses an output that is one of ``inputs`` (never written
-    over, even with ``--force``), two options naming one file, an existing file without
-    ``force`` (``--force``), an unwritable place.
+    ``"json"`` (the extension must be ``.json``) or ``"plot"`` (:data:`PLOT_FORMATS`).
+
+    The rule: the file written is the file named, letter for letter (the writers add no
+    extension: ``--out H.NPY`` writes ``H.NPY``), so the checks below look at the file that
+    will be written. A usage error naming the option refuses an output that is one of
+    ``inputs`` (never written over, even with ``--force``), two options naming one file, an
+    existing file without ``force`` (``--force``), and a place that cannot be written: the
+    nearest existing folder above the file must be a writable directory. Missing folders
+    are made when the file is written, by every command alike. Each file is then written
+    whole or not at all (:func:`roughgp.metrology.writers.atomic_output`) and the command
+    says ``wrote PATH`` with this path.
     Returns the paths (None for an option not given), in order.
     """
     paths, given = [], []
@@ -212,12 +227,6 @@ def add_force_option(parser) -> None:
     """``--force``: the option that lets a command write over an existing file."""
     parser.add_argument("--force", action="store_true",
                         help="write over existing output files (never over the input)")
-
-
-def check_spacing(spacing, option: str = "--spacing") -> None:
-    """A usage error naming ``option`` unless ``spacing`` is None or finite and > 0 (um)."""
-    if spacing is not None and not (math.isfinite(spacing) and spacing > 0):
-        raise UsageError(f"{option} must be > 0 (um), got {spacing!r}")
 
 
 def check_device(device, option: str = "--device") -> None:

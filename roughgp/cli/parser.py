@@ -7,6 +7,7 @@ from __future__ import annotations
 import argparse
 
 from roughgp.cli import check, fill, fit, reproduce, simulate, texture
+from roughgp.cli.options import bounds_text
 from roughgp.cli.output import WIDTH
 from roughgp.metrology.measurement import READ_FORMATS
 
@@ -41,7 +42,7 @@ input formats: {', '.join(READ_FORMATS)}
   .x3p              ISO 25178-72 from any writer (x3pio, x3ptools, MountainsMap, ...)
   instrument files  through SurfaceTopography, recognised by their content: Digital Surf
                     .sur, Wyko .opd, NanoScope .di, Sensofar .plu/.plux, Zygo .datx and
-                    MetroPro .dat, MountainsMap .mnt, Nanosurf .nms, Keyence .vk3/.vk4/.vk6,
+                    MetroPro .dat, MountainsMap .mnt, NanoFocus .nms, Keyence .vk3/.vk4/.vk6,
                     .sdf, Gwyddion .gwy, Olympus .lext/.oir, ... (units from the file)
 A profile's x column may be printed rounded: it is read as a regular grid when every x lies
 within the rounding of its printed digits (the spacing used is printed)."""
@@ -61,16 +62,19 @@ def add_input_options(parser, *, kind=True,
     ``kind`` is False: fill reads surfaces only), --channel and --unit."""
     parser.add_argument("file", metavar="FILE", help=what)
     parser.add_argument("--spacing", type=float, metavar="D",
-                        help="the grid spacing in um, overriding the file's (default: from the "
-                             "file; 1 um when it has none, e.g. .npy)")
+                        help=f"the grid spacing in um, {bounds_text('--spacing')}, overriding "
+                             f"the file's (default: from the file; 1 um when it has none, "
+                             f"e.g. .npy)")
     if kind:
         parser.add_argument("--kind", choices=("auto", "profile", "surface"), default="auto",
                             help="read a text table as a profile or a surface (default: auto)")
     parser.add_argument("--channel", type=int, default=0, metavar="K",
-                        help="the data channel of an instrument file with several (default 0)")
+                        help=f"the data channel of an instrument file with several, "
+                             f"{bounds_text('--channel')} (default 0)")
     parser.add_argument("--unit", choices=("m", "mm", "um", "nm"), metavar="U",
-                        help="the length unit of an instrument file that states none "
-                             "(m, mm, um, nm)")
+                        help="the length unit of an instrument file (m, mm, um, nm), where it "
+                             "states none or states it wrong; refused for .npy, .x3p and "
+                             "text files, whose unit is fixed")
 
 
 

@@ -10,13 +10,12 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import math
-import secrets
 import time
 from pathlib import Path
 
 import numpy as np
 
-from roughgp.cli.options import check_scales
+from roughgp.cli.options import bounds_text, check_scales, seed_or_fresh
 from roughgp.cli.output import (
     UsageError,
     add_force_option,
@@ -102,10 +101,12 @@ def add_parser(sub, formatter) -> None:
     p.add_argument("--shape", nargs=2, type=int, metavar=("NY", "NX"),
                    help="with --from: points along y and x (a profile model: 1 N)")
     p.add_argument("--seed", type=int, metavar="S",
-                   help="with --from: random seed (default: a fresh one, printed)")
+                   help=f"with --from: random seed, {bounds_text('--seed')} (default: a fresh "
+                        f"one, printed)")
     p.add_argument("--out", metavar="FILE", help="with --from: the output file")
     p.add_argument("--spacing", type=float, metavar="D",
-                   help="with --from: grid spacing in um (default: the model's)")
+                   help=f"with --from: grid spacing in um, {bounds_text('--spacing')} "
+                        f"(default: the model's)")
     add_force_option(p)
     p.set_defaults(func=run, kind=None)
     kinds = p.add_subparsers(dest="kind", metavar="KIND", required=False,
@@ -114,12 +115,13 @@ def add_parser(sub, formatter) -> None:
     common.add_argument("--shape", nargs=2, type=int, metavar=("NY", "NX"),
                         help=f"points along y and x (at most {MAX_SIMULATE_POINTS} in all)")
     common.add_argument("--seed", type=int, metavar="S",
-                        help="random seed (default: a fresh one, printed)")
+                        help=f"random seed, {bounds_text('--seed')} (default: a fresh one, "
+                             f"printed)")
     common.add_argument("--out", required=True, metavar="FILE",
                         help="output file: " + ", ".join(WRITE_FORMATS))
     add_force_option(common)
     common.add_argument("--spacing", type=float, default=1.0, metavar="D",
-                        help="grid spacing in um (default 1)")
+                        help=f"grid spacing in um, {bounds_text('--spacing')} (default 1)")
     grooves = argparse.ArgumentParser(add_help=False)
     grooves.add_argument("--noise-variance", type=float, default=1.0, metavar="V",
                          help="variance of the Gaussian noise of eq 8, um^2 (default 1, the "
@@ -306,12 +308,8 @@ def _run_model(args) -> int:
     elif min(shape) < 2:
         raise UsageError(f"--from {args.model} is a surface model: give --shape NY NX with "
                          f"NY, NX >= 2")
-    check_scales(("--spacing", args.spacing, False))
     spacing = model.spacing if args.spacing is None else (args.spacing,) * len(model.spacing)
-    seed = args.seed
-    if seed is None:
-        seed = secrets.randbelow(2 ** 31)
-        err(f"seed: {seed} (pass --seed {seed} to draw the same surface again)")
+    seed = seed_or_fresh(args.seed)
     err(f"drawing {' x '.join(map(str, shape))} points from {args.model}: {model.describe()}")
     start = time.perf_counter()
     z = model.simulate(shape, seed=seed, spacing=spacing)
@@ -328,8 +326,7 @@ def _run_model(args) -> int:
 
 def _check_option_scales(args) -> None:
     """The lengths and variances given: finite, in the library's range of scales."""
-    options = [("--spacing", args.spacing, False)]
-    options += [(name, getattr(args, attr, None), zero) for name, attr, zero in (
+    options = [(name, getattr(args, attr, None), zero) for name, attr, zero in (
         ("--noise-variance", "noise_variance", True), ("--variance", "variance", False),
         ("--lambda-a", "lambda_a", False), ("--lambda-b", "lambda_b", False),
         ("--feed", "feed", False), ("--nose-radius", "nose_radius", False),
@@ -396,10 +393,7 @@ def run(args) -> int:
     shape = _check_shape(args)
     out, = check_outputs(("--out", args.out, "heights"), force=args.force)
     _check_option_scales(args)
-    seed = args.seed
-    if seed is None:
-        seed = secrets.randbelow(2 ** 31)
-        err(f"seed: {seed} (pass --seed {seed} to draw the same surface again)")
+    seed = seed_or_fresh(args.seed)
     ny, nx = shape
     what = f"{nx}-point profile" if ny == 1 else f"{ny} x {nx}"
     method = getattr(args, "method", None)

@@ -4,16 +4,8 @@ handling and the printed table only.
 
 from __future__ import annotations
 
-from roughgp.cli.options import add_operator_options, operator_settings
-from roughgp.cli.output import (
-    add_force_option,
-    check_outputs,
-    check_spacing,
-    print_wrapped,
-    write_json,
-)
-from roughgp.metrology.measurement import read_measurement
-from roughgp.metrology.texture_report import filtered_parameters, unit_of
+from roughgp.cli.options import add_operator_options, check_cutoffs, operator_settings, read_input
+from roughgp.cli.output import UsageError, add_force_option, check_outputs, print_wrapped, write_json
 
 __all__ = ['add_parser', 'run']
 
@@ -48,7 +40,8 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     add_operator_options(x)
     x.add_argument("--unfiltered", action="store_true",
                    help="no F-, S- or L-operator: the parameters of the heights as read, "
-                        "referred to their mean")
+                        "referred to their mean (not with --form, --degree, --axis, "
+                        "--s-filter, --l-filter)")
     x.add_argument("--json", metavar="OUT", help="also write the parameters as JSON (.json)")
     add_force_option(x)
     x.set_defaults(func=run)
@@ -56,11 +49,16 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
 
 def run(args) -> int:
     """``roughgp texture FILE``: ISO surface-texture parameters."""
-    check_spacing(args.spacing)
+    from roughgp.metrology.texture_report import filtered_parameters, unit_of
+    given = getattr(args, "given", ())
+    if args.unfiltered and given:
+        raise UsageError(f"--unfiltered applies no operator: drop {', '.join(given)} (or "
+                         f"--unfiltered)")
     operators = operator_settings(args)
     check_outputs(("--json", args.json, "json"), inputs=(args.file,), force=args.force)
-    heights = read_measurement(args.file, kind=args.kind, spacing=args.spacing,
-                               channel=args.channel, unit=args.unit)
+    heights = read_input(args, args.kind)
+    if not args.unfiltered:
+        check_cutoffs(operators, heights.z.shape, heights.spacing)
     report = filtered_parameters(heights.z, heights.spacing, **operators,
                                  filtered=not args.unfiltered)
     shape = " x ".join(map(str, heights.z.shape))

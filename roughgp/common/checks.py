@@ -3,12 +3,14 @@ parameter and the allowed range, so bad input never turns into a silent NaN."""
 
 from __future__ import annotations
 
+import sys
+
 import numpy as np
-import torch
 
 
 def _as_numpy(value) -> np.ndarray:
-    if isinstance(value, torch.Tensor):
+    torch = sys.modules.get("torch")  # a tensor exists only once torch is imported
+    if torch is not None and isinstance(value, torch.Tensor):
         return value.detach().cpu().numpy()
     return np.asarray(value)
 
@@ -94,10 +96,13 @@ def check_scale(name: str, value, *, zero: bool = False) -> float:
     return number
 
 
-def check_integer(name: str, value, minimum: int) -> int:
-    """``value`` as an int; raise unless it is an integer (not a bool) >= ``minimum``."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
+def check_integer(name: str, value, minimum: int, maximum: int | None = None) -> int:
+    """``value`` as an int; raise unless it is an integer (not a bool) >= ``minimum`` (and
+    <= ``maximum`` when given: the message then states the allowed range)."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum \
+            or (maximum is not None and value > maximum):
+        wanted = f">= {minimum}" + ("" if maximum is None else f" and <= {maximum}")
+        raise ValueError(f"{name} must be an integer {wanted} (allowed range), got {value!r}")
     return int(value)
 
 

@@ -34,12 +34,13 @@ them against numpy (on CUDA too, where torch sees a GPU).
 from __future__ import annotations
 
 import math
-import os
 
 import numpy as np
 import torch
 
-__all__ = ["resolve", "generator", "free_bytes", "check_memory", "available", "to_numpy",
+from roughgp.common.memory import host_free_bytes
+
+__all__ = ["resolve", "generator", "free_bytes", "check_memory", "available",
            "synchronize", "gaussian_log_density"]
 
 
@@ -88,10 +89,7 @@ def free_bytes(device: torch.device) -> int:
     if device.type == "cuda":
         free, _ = torch.cuda.mem_get_info(device)
         return int(free)
-    try:
-        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-    except (ValueError, OSError, AttributeError):  # pragma: no cover - non-POSIX
-        return 8 * 2**30
+    return host_free_bytes()
 
 
 def check_memory(needed: int, device: torch.device, what: str) -> None:
@@ -107,11 +105,6 @@ def check_memory(needed: int, device: torch.device, what: str) -> None:
 def available() -> list[str]:
     """The devices this machine can use: ``["cpu"]``, plus ``"cuda"`` where torch sees a GPU."""
     return ["cpu"] + (["cuda"] if torch.cuda.is_available() else [])
-
-
-def to_numpy(tensor: torch.Tensor) -> np.ndarray:
-    """A tensor on any device as a numpy array on the host."""
-    return tensor.detach().cpu().numpy()
 
 
 def gaussian_log_density(covariance: torch.Tensor, y: torch.Tensor) -> torch.Tensor:

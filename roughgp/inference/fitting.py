@@ -38,10 +38,22 @@ from roughgp.metrology import spectral
 
 __all__ = ["toeplitz_log_likelihood", "spectral_mixture_log_likelihood",
            "fit_spectral_mixture", "SpectralMixtureFit", "Candidate", "MIN_POINTS",
-           "MIN_LINE_WIDTH", "check_profile"]
+           "MIN_LINE_WIDTH", "check_profile", "MAX_POINTS", "MAX_MIXTURES", "MAX_CANDIDATES"]
 
 MIN_POINTS = 16
 """Fewest profile points :func:`fit_spectral_mixture` accepts."""
+
+MAX_POINTS = 65536
+"""Most profile points :func:`fit_spectral_mixture` accepts: the exact likelihood of eq 21
+costs O(n^2) per optimiser step (the Levinson recursion; a dense factorisation on a device),
+so 65536 points already take hours on the CPU; 10^6 would take weeks. Crop or decimate."""
+
+MAX_MIXTURES = 100
+"""Most spectral-mixture components Q (eq 21): each optimiser step costs O(Q n^2), and
+beyond a few tens of lines the fit resolves nothing a profile can tell apart."""
+
+MAX_CANDIDATES = 1000
+"""Most initialisations scored (each a short optimisation of the exact likelihood)."""
 
 MIN_LINE_WIDTH = 0.05
 """Narrowest spectral line of a fit, as a standard deviation in cycles per profile length:
@@ -367,10 +379,14 @@ def fit_spectral_mixture(x, z, num_mixtures, *, n_candidates=10, n_optimise=3, s
     Returns:
         :class:`SpectralMixtureFit`.
     """
-    x, z, spacing = check_profile(x, z)
-    q = check_integer("num_mixtures", num_mixtures, 1)
-    n_candidates = check_integer("n_candidates", n_candidates, 1)
+    q = check_integer("num_mixtures", num_mixtures, 1, MAX_MIXTURES)
+    n_candidates = check_integer("n_candidates", n_candidates, 1, MAX_CANDIDATES)
     n_optimise = check_integer("n_optimise", n_optimise, 1)
+    if np.size(z) > MAX_POINTS:
+        raise ValueError(f"z has {np.size(z)} points; the exact likelihood of eq 21 costs "
+                         f"O(n^2) per step (allowed range: [{MIN_POINTS}, {MAX_POINTS}] "
+                         f"points): crop or decimate the profile")
+    x, z, spacing = check_profile(x, z)
     if n_optimise > n_candidates:
         raise ValueError(f"n_optimise must be in [1, n_candidates = {n_candidates}], "
                          f"got {n_optimise}")

@@ -20,9 +20,8 @@ import dataclasses
 import math
 
 import numpy as np
-import torch
 
-from roughgp.common.device import free_bytes
+from roughgp.common.memory import host_free_bytes
 from roughgp.metrology import texture, texture_heights
 from roughgp.metrology.filters import Texture, surface_texture
 
@@ -54,7 +53,7 @@ def check_texture_size(shape) -> None:
         raise ValueError(f"a map of {size} = {points} points is too large for the texture "
                          f"parameters (at most MAX_TEXTURE_POINTS = {MAX_TEXTURE_POINTS} points; "
                          f"they would need about {needed / 2**30:.1f} GiB): crop or subsample it")
-    free = free_bytes(torch.device("cpu"))
+    free = host_free_bytes()
     if needed > 0.8 * free:
         raise ValueError(f"the texture parameters of a map of {size} points need about "
                          f"{needed / 2**30:.1f} GiB, but only {free / 2**30:.1f} GiB of memory "

@@ -3,17 +3,25 @@
 ``.npy`` (the array), ``.csv`` (text that :func:`roughgp.metrology.measurement.read_measurement`
 reads back: a profile as x, z columns, a surface one row per y, the spacing in a comment) and
 ``.x3p`` (ISO 25178-72, through :func:`roughgp.metrology.x3p.write_x3p`).
+
+Every file is written whole or not at all (:func:`atomic_output`): into a temporary file in
+the same folder, renamed to its name once complete, so an interrupted write (Ctrl-C, a full
+disk, an error) leaves no partial file and an existing file as it was. The file written is
+the one named: a ``.npy`` is never given a second extension (``H.NPY`` stays ``H.NPY``).
 """
 
 from __future__ import annotations
 
+import contextlib
+import os
+import secrets
 from pathlib import Path
 
 import numpy as np
 
 from roughgp.metrology.x3p import write_x3p
 
-__all__ = ["WRITE_FORMATS", "check_write_format", "write_heights"]
+__all__ = ["WRITE_FORMATS", "atomic_output", "check_write_format", "write_heights"]
 
 #: The formats :func:`write_heights` writes (chosen by the file's extension).
 WRITE_FORMATS = (".npy", ".csv", ".x3p")
@@ -33,17 +41,41 @@ def check_write_format(path) -> Path:
     return path
 
 
-def _kept(source) -> dict:
-    """What an input file said that an output keeps: offset, creator, comment (None if not)."""
+@contextlib.contextmanager
+def atomic_output(path):
+    """Write ``path`` whole or not at all: yields a temporary path in the same folder (a
+    hidden name ending in ``.partial`` plus ``path``'s extension, for writers that pick the
+    format by it); when the block ends normally the temporary file is renamed to ``path``
+    (``os.replace``: atomic on one file system), when it raises (KeyboardInterrupt too) the
+    temporary file is removed and ``path`` is left as it was. Missing folders are made.
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    partial = path.parent / f".{path.name}.{secrets.token_hex(4)}.partial{path.suffix}"
+    try:
+        yield partial
+        os.replace(partial, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            partial.unlink()
+        raise
+
+
+def _kept(source, spread: bool = False) -> dict:
+    """What an input file said that an output keeps: offset, creator, comment (None if not);
+    a ``spread`` (an sd, a band's half-width) keeps the x and y offsets, its z offset is 0."""
     source = source or {}
     offset = source.get("offset")
     if offset is not None and (len(offset) != 3 or not np.all(np.isfinite(offset))):
         offset = None
+    if offset is not None and spread:
+        offset = (*tuple(offset)[:2], 0.0)
     return {"offset": None if offset is None else tuple(float(v) for v in offset),
             "creator": source.get("creator") or None, "comment": source.get("comment") or None}
 
 
-def write_heights(path, z: np.ndarray, spacing, comment: str, *, source=None) -> None:
+def write_heights(path, z: np.ndarray, spacing, comment: str, *, source=None,
+                  spread: bool = False) -> None:
     """Write heights ``z`` (µm; ``z[ix]`` or ``z[iy, ix]``) with ``spacing`` (µm) in the format
     of the extension (:data:`WRITE_FORMATS`); ``comment`` (what was done: the command and the
     operators applied) goes into the file's header.
@@ -51,16 +83,23 @@ def write_heights(path, z: np.ndarray, spacing, comment: str, *, source=None) ->
     ``source``: the ``meta`` of the input (:class:`roughgp.metrology.measurement.Measurement`),
     whose offsets (x, y, z of the first point, µm), creator and comment the file keeps: in the
     x3p's own fields (axis offsets, ``Creator``; the input's comment after ``comment``), as
-    ``#`` lines of a ``.csv``; a ``.npy`` holds the heights alone.
+    ``#`` lines of a ``.csv``; a ``.npy`` holds the heights alone. ``spread``: ``z`` is no
+    height but a spread about one (a posterior sd, a band's half-width): the input's z
+    offset is not added to it (its x and y offsets are kept).
     """
     path = check_write_format(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    ext = path.suffix.lower()
-    kept = _kept(source)
+    kept = _kept(source, spread)
     if kept["comment"]:
         comment = f"{comment}; the input's comment: {kept['comment']}"
+    with atomic_output(path) as partial:
+        _write(partial, path.suffix.lower(), z, spacing, comment, kept)
+
+
+def _write(path: Path, ext: str, z, spacing, comment: str, kept: dict) -> None:
+    """:func:`write_heights`'s formats, into ``path`` as named."""
     if ext == ".npy":
-        np.save(path, z)
+        with open(path, "wb") as out:  # a file object: numpy appends no ".npy" to the name
+            np.save(out, z)
         return
     if ext == ".x3p":
         write_x3p(path, z, spacing, comment=comment, creator=kept["creator"],

@@ -20,6 +20,7 @@ r"""Draws of a latent surface on a regular grid, eq 10: :math:`\mathbf G \sim \m
 
 from __future__ import annotations
 
+import hashlib
 import logging
 import math
 import warnings
@@ -31,9 +32,9 @@ import scipy.linalg
 
 from roughgp.common.checks import as_generator as _rng
 from roughgp.common.checks import check_size
-from roughgp.common.device import free_bytes
 from roughgp.common.device import resolve as resolve_device
 from roughgp.common.grid import centred_lags, normalize
+from roughgp.common.memory import host_free_bytes
 from roughgp.sampling import circulant
 
 __all__ = ["sample_grid", "grid_covariance", "covariance_index", "choose_method", "SamplingInfo",
@@ -45,6 +46,13 @@ _LOG = logging.getLogger(__name__)
 _EMBEDDINGS: dict = {}  # the last few circulant embeddings, keyed by kernel state and grid
 _CACHE_SIZE = 8  # enough for the four kernels of a two-step honed surface (eq 20)
 _CACHE_BYTES = 2 * 2**30  # ... but older entries go once the cache holds more than this
+_FACTORS: dict = {}  # the last few dense Cholesky factors (and jitters), keyed by lag table
+_FACTOR_BYTES = 2**29  # older factors go once they hold more than this (512 MiB)
+_CHOICES: dict = {}  # choose_method's answers, keyed by lag table (a mirror image shares one)
+_CHOICES_SIZE = 32
+#: The torus search of :func:`choose_method` may cost at most this share of the Cholesky
+#: factorisation it would replace (by the cost model): beyond it Cholesky is taken unsearched.
+SEARCH_SHARE = 0.25
 
 
 @dataclass
@@ -87,9 +95,27 @@ def acvf_of(kernel, name="kernel") -> Callable:
 
 
 def _available_bytes() -> int:
-    import torch
+    return host_free_bytes()
 
-    return free_bytes(torch.device("cpu"))
+
+def _lag_table(kernel, shape, spacing) -> np.ndarray:
+    """The ACVF on the (2 n - 1)-point lag grid of each axis: every covariance of the grid."""
+    table = np.asarray(acvf_of(kernel)(centred_lags(tuple(2 * n - 1 for n in shape), spacing)),
+                       dtype=np.float64)
+    if not np.all(np.isfinite(table)):
+        raise ValueError("kernel returned non-finite covariances on this grid")
+    return table
+
+
+def _table_keys(table, shape, spacing):
+    """Keys of a grid's covariance (its lag table): ``(key, mirrored)``, where ``mirrored``
+    is the key of the grid's mirror image along x (the table reversed along its last axis;
+    None for a profile, whose table is symmetric). A kernel whose table is another's
+    mirrored (eq 19's -phi against +phi) is drawn from the other's factor, flipped along x."""
+    def key(values):
+        digest = hashlib.sha256(np.ascontiguousarray(values).tobytes()).hexdigest()
+        return (tuple(shape), tuple(float(d) for d in spacing), digest)
+    return key(table), (key(table[..., ::-1]) if len(shape) == 2 else None)
 
 
 def grid_covariance(kernel, shape, spacing=1.0, *, device=None):
@@ -101,17 +127,24 @@ def grid_covariance(kernel, shape, spacing=1.0, *, device=None):
     device is returned.
     """
     shape, spacing = normalize(shape, spacing)
-    acvf = acvf_of(kernel)
-    table = np.asarray(acvf(centred_lags(tuple(2 * n - 1 for n in shape), spacing)),
-                       dtype=np.float64)
-    if not np.all(np.isfinite(table)):
-        raise ValueError("kernel returned non-finite covariances on this grid")
-    index = covariance_index(shape, device)
+    table = _lag_table(kernel, shape, spacing)
     if device is None:
-        return table.reshape(-1)[index]
+        return _gathered(table, shape)
+    index = covariance_index(shape, device)
     import torch
 
     return torch.as_tensor(table.reshape(-1), device=index.device)[index]
+
+
+def _gathered(table, shape) -> np.ndarray:
+    """The (N, N) covariance from the lag ``table`` (numpy): each pair's lag looked up through
+    per-axis index arrays (a 2-D grid broadcasts ny x ny and nx x nx indices instead of
+    building :func:`covariance_index`'s N x N one: about 5 times faster)."""
+    offsets = [np.arange(n)[None, :] - np.arange(n)[:, None] + n - 1 for n in shape]
+    if len(shape) == 1:
+        return table[offsets[0]]
+    (ny, nx), (dy, dx) = shape, offsets
+    return table[dy[:, None, :, None], dx[None, :, None, :]].reshape(ny * nx, ny * nx)
 
 
 def covariance_index(shape, device=None):
@@ -190,15 +223,53 @@ def _check_dense_memory(shape, method, copies=2, device=None):
 
 def _draw_cholesky(kernel, shape, spacing, n_samples, rng, info, device=None):
     _check_dense_memory(shape, "cholesky", copies=2 if device is None else 3, device=device)
-    factor, info.jitter = _cholesky_factor(grid_covariance(kernel, shape, spacing,
-                                                           device=device))
-    noise = rng.standard_normal((factor.shape[0], n_samples))  # numpy on every device
+    table, mirrored, key = _canonical_table(kernel, shape, spacing)
     if device is not None:
         import torch
 
-        noise = torch.from_numpy(noise).to(device)
-        return (factor @ noise).T.reshape((n_samples, *shape)).cpu().numpy()
-    return (factor @ noise).T.reshape((n_samples, *shape))
+        index = covariance_index(shape, device)
+        covariance = torch.as_tensor(table.reshape(-1), device=index.device)[index]
+        factor, info.jitter = _cholesky_factor(covariance)
+        noise = torch.from_numpy(rng.standard_normal((factor.shape[0], n_samples))).to(device)
+        samples = (factor @ noise).T.reshape((n_samples, *shape)).cpu().numpy()
+    else:
+        factor, info.jitter = _cached_factor(table, shape, key, info)
+        noise = rng.standard_normal((factor.shape[0], n_samples))
+        samples = (factor @ noise).T.reshape((n_samples, *shape))
+    return samples[..., ::-1] if mirrored else samples
+
+
+def _canonical_table(kernel, shape, spacing):
+    """The lag table a Cholesky draw factorises: the kernel's own, or its mirror image along x
+    where the mirror image is the canonical one of the two (its covariance along the
+    diagonal lag (-(ny - 1), -(nx - 1)) is larger than along the anti-diagonal, as for a lay
+    angle in (0, 90) degrees; ties by the key of :func:`_table_keys`); ``(table, mirrored,
+    key)``. A draw from the mirror image's factor, flipped along x, has exactly the kernel's
+    covariance, so a kernel and its mirror image (eq 19's +phi and -phi) share one
+    factorisation, and which table is factorised does not depend on what was drawn before
+    (the same seed, the same draw; a positive angle's draws are those of before)."""
+    table = _lag_table(kernel, shape, spacing)
+    key, mirror = _table_keys(table, shape, spacing)
+    if mirror is not None:
+        diagonal, anti = table[0, 0], table[0, -1]
+        if anti > diagonal or (anti == diagonal and mirror < key):
+            return table[..., ::-1], True, mirror
+    return table, False, key
+
+
+def _cached_factor(table, shape, key, info):
+    """The Cholesky factor and jitter of the covariance of lag ``table`` (numpy), kept in
+    :data:`_FACTORS` by ``key`` (the newest within :data:`_FACTOR_BYTES`), so repeated draws
+    and a honed surface's mirrored grounds factorise once."""
+    if key in _FACTORS:
+        info.cached = True
+        return _FACTORS[key]
+    factor, jitter = _cholesky_factor(_gathered(table, shape))
+    if factor.nbytes <= _FACTOR_BYTES:
+        _FACTORS[key] = (factor, jitter)
+        while sum(f.nbytes for f, _ in _FACTORS.values()) > _FACTOR_BYTES:
+            _FACTORS.pop(next(iter(_FACTORS)))
+    return factor, jitter
 
 
 def _draw_lanczos(kernel, shape, spacing, n_samples, rng, info, rank, device=None):
@@ -300,6 +371,11 @@ def choose_method(kernel, shape, spacing=1.0, n_samples=1):
     ``(2 + ceil(n / 2)) * 5 M log2 M`` flops for the search and the FFTs on the torus of M
     points that :func:`roughgp.sampling.circulant.predict_torus` expects (a few FFTs of a coarse
     copy of the grid; skipped when the dense covariance does not fit in memory).
+    The search itself is bounded: it may cost at most :data:`SEARCH_SHARE` of the Cholesky
+    factorisation (by the same model), so on a small grid whose correlation length needs a
+    huge torus (figure 3's lambda_a = 500 on 64 x 64 points: about 2688 x 2688) Cholesky is
+    taken once the search passes that torus size, without searching further. The answer is
+    kept for the kernel's lag table, which its mirror image (eq 19's -phi) shares.
     An additive kernel (eq 22) always goes to the O(N) circulant route.
     """
     from roughgp.gp.kernels import AdditiveKernel
@@ -309,19 +385,48 @@ def choose_method(kernel, shape, spacing=1.0, n_samples=1):
         return "circulant", "additive kernel (eq 22): two exact profiles, O(N)"
     n_points = int(np.prod(shape))
     dense_bytes = 2 * n_points**2 * _BYTES
-    cholesky_cost = (math.inf if dense_bytes > 0.8 * _available_bytes()
-                     else (n_points**3 / 3 + n_points**2 * n_samples) / _FLOPS_PER_SECOND)
-    if math.isinf(cholesky_cost):  # no need to predict the torus (a coarse search)
+    if dense_bytes > 0.8 * _available_bytes():  # no need to predict the torus (a search)
         return "circulant", "circulant (the dense covariance of Cholesky is out of memory)"
-    torus = circulant.predict_torus(acvf_of(kernel), shape, spacing)
-    m = int(np.prod(torus))
-    fft_flops = 5 * m * max(math.log2(m), 1)
-    circulant_cost = (2 + math.ceil(n_samples / 2)) * fft_flops / (_FLOPS_PER_SECOND / 10)
+    cholesky_cost = (n_points**3 / 3 + n_points**2 * n_samples) / _FLOPS_PER_SECOND
+    key, mirror = _table_keys(_lag_table(kernel, shape, spacing), shape, spacing)
+    key = (min(key, mirror or key), n_samples)
+    if key not in _CHOICES:
+        _CHOICES[key] = _cheaper(kernel, shape, spacing, n_samples, cholesky_cost)
+        while len(_CHOICES) > _CHOICES_SIZE:
+            _CHOICES.pop(next(iter(_CHOICES)))
+    return _CHOICES[key]
+
+
+def _fft_cost(points: int, passes: float) -> float:
+    """Seconds of ``passes`` FFTs over ``points`` (the cost model of :func:`choose_method`)."""
+    return passes * 5 * points * max(math.log2(points), 1) / (_FLOPS_PER_SECOND / 10)
+
+
+def _cheaper(kernel, shape, spacing, n_samples, cholesky_cost):
+    """:func:`choose_method`'s comparison once Cholesky fits in memory."""
+    passes = 2 + math.ceil(n_samples / 2)
+    least = circulant.minimal_torus(shape)
+    if cholesky_cost <= _fft_cost(int(np.prod(least)), passes):  # even the least torus costs more
+        return "cholesky", (f"Cholesky ~{cholesky_cost:.2g} s vs circulant ~"
+                            f"{_fft_cost(int(np.prod(least)), passes):.2g} s or more (the "
+                            f"smallest torus, {least})")
+    budget = SEARCH_SHARE * cholesky_cost
+    cap = 2**40  # the largest torus the search may try: its two passes within the budget
+    for _ in range(8):
+        cap = max(int(budget * (_FLOPS_PER_SECOND / 10) / (2 * 5 * max(math.log2(cap), 1))), 1)
+    try:
+        torus = circulant.predict_torus(acvf_of(kernel), shape, spacing,
+                                        max_points=min(cap, 2**27))
+    except circulant.NotEmbeddableError:
+        return "cholesky", (f"Cholesky ~{cholesky_cost:.2g} s; circulant embedding needs a "
+                            f"torus of more than {cap:.3g} points, where searching it would "
+                            f"cost more than {SEARCH_SHARE:g} of the Cholesky")
+    circulant_cost = _fft_cost(int(np.prod(torus)), passes)
     if cholesky_cost <= circulant_cost:
         return "cholesky", (f"Cholesky ~{cholesky_cost:.2g} s vs circulant ~{circulant_cost:.2g} s "
                             f"(torus about {torus})")
     return "circulant", (f"circulant ~{circulant_cost:.2g} s (torus about {torus}) vs Cholesky "
-                         f"{'out of memory' if math.isinf(cholesky_cost) else f'~{cholesky_cost:.2g} s'}")
+                         f"~{cholesky_cost:.2g} s")
 
 
 def sample_grid(kernel, shape, *, spacing=1.0, n_samples=1, method="auto", seed=None,

@@ -379,11 +379,14 @@ def test_fill_checks_itself_chooses_nu_and_writes_the_calibrated_band(capsys, tm
 @pytest.mark.parametrize("extra, message", [
     (("--nu", "auto", "--no-check"), "--nu auto chooses by the self-check"),
     (("--nu", "0.7"), "invalid choice: '0.7'"),
-    (("--method", "global", "--samples", "1", "--sd", "SD"), "--sd needs --samples >= 2"),
-    (("--samples", "-1"), "--samples must be in [0, 256]"),
-    (("--samples", "100000"), "--samples must be in [0, 256]"),
+    (("--method", "global", "--samples", "1", "--sd", "SD"), "--samples must be in [2, 256]"),
+    (("--samples", "-1"), "--samples must be in [2, 256]"),
+    (("--samples", "100000"), "--samples must be in [2, 256]"),
     (("--device", "gpu"), "--device must be None"),
-    (("--block", "3"), "--block must be in [4, 64]"),
+    (("--block", "3"), "--block must be in [4, 32]"),
+    (("--block", "64"), "--block must be in [4, 32]"),
+    (("--seed", "-1"), "--seed must be in [0, 4294967295], got -1"),
+    (("--spacing", "1e-300"), "--spacing must be in [1e-06, 1e+06] um"),
     (("--blocks", "100000"), "--blocks must be in [1, 200]"),
 ])
 def test_fill_rejects_bad_options(capsys, tmp_path, extra, message):

@@ -67,7 +67,7 @@ def test_texture_refuses_a_map_over_its_point_limit(capsys, tmp_path, monkeypatc
 
 
 def test_texture_refuses_a_map_that_would_not_fit_in_free_memory(monkeypatch):
-    monkeypatch.setattr(texture_report, "free_bytes", lambda device: 10**6)
+    monkeypatch.setattr(texture_report, "host_free_bytes", lambda: 10**6)
     with pytest.raises(ValueError, match=r"need about .* GiB, but only .* GiB of memory"):
         texture_report.filtered_parameters(np.zeros((64, 64)))
 
@@ -150,12 +150,12 @@ def test_a_correct_kernel_function_still_draws():
                                             "overflowed"), (MemoryError(), "out of memory")])
 def test_overflow_and_memory_errors_exit_2_without_a_traceback(capsys, tmp_path, monkeypatch,
                                                                 error, words):
-    from roughgp.cli import texture
+    from roughgp.metrology import texture_report
 
     def fail(*args, **kwargs):
         raise error
     path = tmp_path / "t.x3p"
     x3p.write_x3p(path, np.zeros((8, 8)), 1.0)
-    monkeypatch.setattr(texture, "filtered_parameters", fail)
+    monkeypatch.setattr(texture_report, "filtered_parameters", fail)
     code, _, err = _run(capsys, "texture", path)
     assert code == 2 and words in err and "Traceback" not in err

@@ -237,3 +237,10 @@ def test_encrypted_or_unknown_compression_members_are_refused_plainly(tmp_path):
         import x3pio
         with pytest.raises((RuntimeError, NotImplementedError, x3pio.X3pError)):
             x3pio.read(path)
+
+
+def test_a_spread_keeps_the_x_and_y_offsets_but_not_the_z_offset(tmp_path):
+    source = {"offset": (5.0, 6.0, 0.5), "creator": "Lab B"}
+    out = tmp_path / "sd.x3p"
+    writers.write_heights(out, _ramp(), (DY, DX), "an sd", source=source, spread=True)
+    np.testing.assert_allclose(x3p.read_x3p(out).meta["offset"], (5.0, 6.0, 0.0), rtol=1e-12)
