@@ -5,8 +5,20 @@ The paper's loop is: measure a surface, fit the GP, simulate new surfaces like i
 their units, the height distribution (Gaussian, eq 8, or a Johnson transform of prescribed
 skewness and kurtosis, :mod:`roughgp.beyond.non_gaussian`), the operators applied to the data
 before the fit (form removal, S- and L-filters), the data it was fitted on and the fit's log
-likelihood. ``save`` / ``load`` write and read it (``format: roughgp-model``, ``version: 1``);
-``simulate(shape, seed=...)`` draws new surfaces from it.
+likelihood. ``save`` / ``load`` write and read it (``format: roughgp-model``, ``version: 2``; a file of
+version 1 is read as stage ``"filtered"``, what version 1 fitted); ``simulate(shape, seed=...)``
+draws new surfaces from it.
+
+The stage of the operator chain (form removal F, then the S- and L-filters) at which the model
+describes the surface is ``stage``:
+
+* ``"form-removed"`` (what :func:`~roughgp.beyond.measured.fit.fit_surface_model` fits): the
+  heights after F, before S and L. A simulation is put through the rest of the chain (F again,
+  S, L, with the measurement's holes) before it is compared with the measurement
+  (:func:`roughgp.beyond.measured.fit.rest_of_chain`);
+* ``"filtered"``: the heights after every operator of ``cutoffs``; simulations are compared
+  as drawn (least-squares plane removed). A stationary ACVF fitted there cannot have the
+  filtered heights' covariance (:mod:`roughgp.beyond.measured.fit` says why and what it costs).
 
 Equations:
 
@@ -39,10 +51,12 @@ from roughgp.common.checks import as_generator
 from roughgp.common.grid import normalize
 from roughgp.gp.noise import GaussianNoise
 
-__all__ = ["FittedModel", "MODEL_FORMAT", "MODEL_VERSION", "EQUATIONS", "ModelFileError"]
+__all__ = ["FittedModel", "MODEL_FORMAT", "MODEL_VERSION", "EQUATIONS", "STAGES", "ModelFileError"]
 
 MODEL_FORMAT = "roughgp-model"
-MODEL_VERSION = 1
+MODEL_VERSION = 2
+#: the stages of the operator chain a model may describe (module docstring)
+STAGES = ("form-removed", "filtered")
 #: equation -> (kind, the hyperparameters it needs, with their units in the names)
 EQUATIONS = {
     "eq18": ("surface", ("variance_um2", "lambda_a_um", "lambda_b_um", "angle_deg",
@@ -86,6 +100,8 @@ class FittedModel:
         cutoffs: ``{"form": ..., "s_um": ..., "l_um": ...}``: the operators' settings.
         data: what the model was fitted on (file, shape, missing share, points used, ...).
         fit: how (method, log likelihood, seed, seconds, ...).
+        stage: ``"form-removed"`` or ``"filtered"``: where in the operator chain the model
+            describes the surface (module docstring).
     """
 
     equation: str
@@ -96,8 +112,11 @@ class FittedModel:
     cutoffs: dict = dataclasses.field(default_factory=dict)
     data: dict = dataclasses.field(default_factory=dict)
     fit: dict = dataclasses.field(default_factory=dict)
+    stage: str = "form-removed"
 
     def __post_init__(self):
+        if self.stage not in STAGES:
+            raise ModelFileError(f"stage must be one of {list(STAGES)}, got {self.stage!r}")
         if self.equation not in EQUATIONS:
             raise ModelFileError(f"equation must be one of {sorted(EQUATIONS)}, "
                                  f"got {self.equation!r}")
@@ -231,7 +250,7 @@ class FittedModel:
     def to_dict(self) -> dict:
         from roughgp import __version__
         return {"format": MODEL_FORMAT, "version": MODEL_VERSION, "equation": self.equation,
-                "kind": self.kind, "description": self.describe(),
+                "kind": self.kind, "stage": self.stage, "description": self.describe(),
                 "hyperparameters": _plain(self.hyperparameters),
                 "spacing_um": [float(d) for d in self.spacing],
                 "marginal": _plain(self.marginal), "operators": list(self.operators),
@@ -243,16 +262,17 @@ class FittedModel:
         if not isinstance(values, dict) or values.get("format") != MODEL_FORMAT:
             raise ModelFileError(f"{source} is not a roughgp model file (no \"format\": "
                                  f"\"{MODEL_FORMAT}\"; write one with roughgp fit ... --out)")
-        if values.get("version") != MODEL_VERSION:
+        if values.get("version") not in (1, MODEL_VERSION):
             raise ModelFileError(f"{source} is a model file of version "
-                                 f"{values.get('version')!r}; this roughgp reads version "
-                                 f"{MODEL_VERSION}")
+                                 f"{values.get('version')!r}; this roughgp reads versions "
+                                 f"1 and {MODEL_VERSION}")
         try:
             return cls(equation=values["equation"], hyperparameters=dict(values["hyperparameters"]),
                        spacing=tuple(values["spacing_um"]), marginal=values.get("marginal"),
                        operators=tuple(values.get("operators", ())),
                        cutoffs=dict(values.get("cutoffs", {})), data=dict(values.get("data", {})),
-                       fit=dict(values.get("fit", {})))
+                       fit=dict(values.get("fit", {})),
+                       stage=values["stage"] if values["version"] > 1 else "filtered")
         except (KeyError, TypeError) as exc:
             raise ModelFileError(f"{source} lacks or garbles the field {exc}") from None
 
