@@ -225,6 +225,8 @@ def _fit_ground(args, heights, operators, data):
     print(f"  noise variance        {hp['noise_variance_um2']:>12.4g} um^2")
     print(f"  block composite log likelihood {fit.log_likelihood:.6g} ({fit.n_points} "
           f"measured points in {len(fit.blocks)} blocks of {args.block} x {args.block})")
+    for note in result.range_notes:
+        print_wrapped(f"note: {note}")
     _print_marginal(model)
     return model
 

@@ -55,9 +55,9 @@ def test_model_file_round_trip_and_versions(tmp_path):
 
 
 @pytest.mark.parametrize("changes, message", [
-    ({"lambda_a_um": -1.0}, "lambda_a_um must be > 0"),
-    ({"noise_variance_um2": float("nan")}, "noise_variance_um2 must be finite"),
-    ({"angle_deg": float("inf")}, "angle_deg must be finite"),
+    ({"lambda_a_um": -1.0}, r"lambda_a_um must be a finite number in \(0"),
+    ({"noise_variance_um2": float("nan")}, "noise_variance_um2 must be a finite number"),
+    ({"angle_deg": float("inf")}, "angle_deg must be a finite number"),
 ])
 def test_model_refuses_bad_hyperparameters(changes, message):
     with pytest.raises(ModelFileError, match=message):

@@ -39,6 +39,7 @@ import warnings
 
 import numpy as np
 
+from roughgp.beyond.measured.in_range import keep_in_range
 from roughgp.beyond.measured.model import STAGES, FittedModel
 from roughgp.common.grid import normalize
 from roughgp.inference.block_fit import BlockFit, fit_ground_to_valid_points
@@ -51,12 +52,14 @@ __all__ = ["SurfaceModelFit", "ProfileModelFit", "fit_surface_model", "fit_profi
 
 @dataclasses.dataclass(frozen=True)
 class SurfaceModelFit:
-    """What :func:`fit_surface_model` returns: the model, the filtered heights it was fitted
-    to (``texture.sl``, NaN kept) and the block fit."""
+    """What :func:`fit_surface_model` returns: the model, the measurement's chain
+    (``texture``), the block fit, and what :func:`~roughgp.beyond.measured.in_range.keep_in_range`
+    found out of range and did (``range_notes``)."""
 
     model: FittedModel
     texture: Texture
     block_fit: BlockFit
+    range_notes: tuple = ()
 
 
 @dataclasses.dataclass(frozen=True)
@@ -169,7 +172,8 @@ def fit_surface_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2,
     model = FittedModel("eq18" if nu == 0.5 else "eq18-matern", hyper, (dy, dx),
                         _marginal(heights, non_gaussian), tuple(texture.operators), cutoffs,
                         described, how, stage)
-    return SurfaceModelFit(model, texture, fit)
+    model, notes = keep_in_range(model, arr.shape, block)
+    return SurfaceModelFit(model, texture, fit, tuple(notes))
 
 
 def fit_profile_model(z, spacing=1.0, *, form="plane", s=None, l=None, num_mixtures=5, seed=0,
