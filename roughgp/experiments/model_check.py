@@ -15,6 +15,11 @@ uniform. :func:`calibrate` measures how often it happens, per parameter:
   measurement, so a parameter the fit pins (Sq through the variance, Sal through the
   lengths) falls outside less often than 10 %: the check is then conservative for it.
 
+:func:`compare_stages` measures why the model describes the form-removed heights: the same
+L-filtered synthetic measurements fitted at stage ``"form-removed"`` (simulations filtered
+like the measurement) and at stage ``"filtered"`` (eq 18 fitted to the filtered heights,
+simulations compared unfiltered, version 1's route).
+
 The synthetic measurements (:data:`CASES`) are eq 18 surfaces of several lengths, lays and
 noise levels, half of them with an L-filter in their chain, every other one with holes (a
 rectangle and a disc, about 9 % of the points).
@@ -33,7 +38,7 @@ from roughgp.beyond.measured.model import FittedModel
 from roughgp.common.settings import pick
 
 __all__ = ["CASES", "CalibrationCase", "Calibration", "calibrate", "synthetic_measurement",
-           "EXPECTED_OUTSIDE"]
+           "EXPECTED_OUTSIDE", "StageComparison", "compare_stages"]
 
 #: the share outside for a measurement of the checked model, 19 simulations: 2 / 20
 EXPECTED_OUTSIDE = 0.1
@@ -169,3 +174,45 @@ def calibrate(n_cases=None, *, shape=None, n_simulations=19, seed=0, block=16,
                                      seconds))
     return Calibration(tuple(cases), tuple(names), int(n_simulations), shape,
                        time.perf_counter() - start)
+
+
+@dataclasses.dataclass(frozen=True)
+class StageComparison:
+    """What :func:`compare_stages` returns: per stage, the parameters outside on each case,
+    and the fitted lengths against the true ones."""
+
+    outside: dict
+    lambda_ratio: dict
+    names: tuple
+
+    def mean_outside(self, stage) -> float:
+        """Parameters outside per case, on average."""
+        return float(np.mean([len(o) for o in self.outside[stage]]))
+
+    def share(self, stage, name) -> float:
+        """The share of the cases with ``name`` outside."""
+        return float(np.mean([name in o for o in self.outside[stage]]))
+
+
+def compare_stages(n_cases=None, *, shape=None, n_simulations=19, seed=0, block=16,
+                   n_blocks=10, l_filter=20.0, names=SURFACE_PARAMETERS) -> StageComparison:
+    """Fit and check ``n_cases`` L-filtered synthetic measurements (every other one with holes)
+    at both stages (module docstring). Defaults: 3 cases of 64 x 64 (quick), 12 of 128 x 128
+    (``ROUGHGP_FULL``)."""
+    n_cases = pick(3, 12) if n_cases is None else int(n_cases)
+    shape = tuple(pick((64, 64), (128, 128)) if shape is None else shape)
+    stages = ("form-removed", "filtered")
+    outside = {stage: [] for stage in stages}
+    ratio = {stage: [] for stage in stages}
+    for index in range(n_cases):
+        # the synthetic measurements with an L-filter in their chain: 2, 3, 6, 7, ...
+        truth, _, z = synthetic_measurement(4 * (index // 2) + 2 + index % 2, shape, seed)
+        for stage in stages:
+            model = fit_surface_model(z, 1.0, l=l_filter, block=block, n_blocks=n_blocks,
+                                      seed=seed + index, stage=stage).model
+            check = check_model(model, z, n_simulations=n_simulations, seed=seed + index,
+                                names=names)
+            outside[stage].append(tuple(check.outside))
+            ratio[stage].append(model.hyperparameters["lambda_a_um"]
+                                / truth.hyperparameters["lambda_a_um"])
+    return StageComparison(outside, ratio, tuple(names))
