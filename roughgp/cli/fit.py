@@ -44,9 +44,10 @@ Fit the spectral mixture ACVF of eq 21 (Q Gaussian lines plus white noise) to a 
 maximum marginal likelihood, as in section 3.3: candidates from Welch and periodogram PSD
 estimates, the best optimised, on the heights after the F-operator (a least-squares line by
 default); S- and L-filters, when asked, are kept in the model file and applied to its
-simulations by 'roughgp check' and 'roughgp simulate --from' as to the measurement. A surface is reduced to its MEAN PROFILE: with
---axis x (default) the rows are averaged (over y, i.e. along the lay of a turned surface
-whose feed marks run along y), leaving a profile along x; --axis y averages the columns.
+simulations by 'roughgp check' and 'roughgp simulate --from' as to the measurement. A
+surface is reduced to its MEAN PROFILE: with --axis x (default) the rows are averaged (over
+y, i.e. along the lay of a turned surface whose feed marks run along y), leaving a profile
+along x; --axis y averages the columns.
 Prints the weights (um^2), periods 1/mu (um), line widths (the standard deviation of each
 spectral Gaussian, 1/um), the noise variance, the log marginal likelihood and the dominant
 period. The exact likelihood costs O(n^2) per step: a few thousand points take seconds to

@@ -7,8 +7,8 @@ r"""Fit a model to a measured surface or profile and keep it as a :class:`Fitted
   of eq 21 by the procedure of section 3.3
   (:func:`roughgp.inference.fitting.fit_spectral_mixture`).
 
-**Like with like.** The S- and L-filters asked for (:func:`roughgp.metrology.filters.surface_texture`)
-are not applied before the fit: the model describes the heights after F (stage
+**Like with like.** The S- and L-filters asked for
+(:func:`roughgp.metrology.filters.surface_texture`) are not applied before the fit: the model describes the heights after F (stage
 ``"form-removed"``), and :func:`rest_of_chain` puts its simulations through the holes, the
 F-operator and the filters exactly as the measurement went, before
 :func:`roughgp.beyond.measured.check.check_model` compares them. The other route, fitting the

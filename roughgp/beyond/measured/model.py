@@ -5,9 +5,10 @@ The paper's loop is: measure a surface, fit the GP, simulate new surfaces like i
 their units, the height distribution (Gaussian, eq 8, or a Johnson transform of prescribed
 skewness and kurtosis, :mod:`roughgp.beyond.non_gaussian`), the operators applied to the data
 before the fit (form removal, S- and L-filters), the data it was fitted on and the fit's log
-likelihood. ``save`` / ``load`` write and read it (``format: roughgp-model``, ``version: 2``; a file of
-version 1 is read as stage ``"filtered"``, what version 1 fitted); ``simulate(shape, seed=...)``
-draws new surfaces from it.
+likelihood. ``save`` / ``load`` write and read it (``format: roughgp-model``, ``version: 2``;
+a file of version 1 is read as stage ``"filtered"``, what version 1 fitted; the schema is
+:mod:`roughgp.beyond.measured.schema`); ``simulate(shape, seed=...)`` draws new surfaces from
+it.
 
 The stage of the operator chain (form removal F, then the S- and L-filters) at which the model
 describes the surface is ``stage``:
