@@ -23,6 +23,13 @@ simulations compared unfiltered, version 1's route).
 The synthetic measurements (:data:`CASES`) are eq 18 surfaces of several lengths, lays and
 noise levels, half of them with an L-filter in their chain, every other one with holes (a
 rectangle and a disc, about 9 % of the points).
+
+Measured (``calibrate(50)``, 64 x 64, seed 0; 669 s on the 2-core machine shared with other
+jobs): outside in 9.4 % of the cases on average over the 13 parameters against the true model
+and 9.4 % against the fitted one (expected 10 %; one parameter's share over 50 cases scatters by
+4.2 %). Per parameter, against the fitted model: Sq, Sa 4 %; Sk, Spk 6 %; Ssk, Sv, Svk 8 %; Sku
+10 %; Sz, Std 12 %; Sp, Sal 14 %; Str 16 %. By case, against the fitted model: 11 % with an
+L-filter, 8 % without; 12 % with holes, 6 % without.
 """
 
 from __future__ import annotations
@@ -150,13 +157,13 @@ def calibrate(n_cases=None, *, shape=None, n_simulations=19, seed=0, block=16,
 
     Args:
         n_cases: default 8 (quick) or 50 (``ROUGHGP_FULL``).
-        shape: of each measurement, default (64, 64) quick, (128, 128) full.
+        shape: of each measurement, default (64, 64).
         n_simulations: per check (19: 10 % outside expected).
         seed: of the measurements, the fits' blocks and the checks' draws.
         block, n_blocks: the fit's blocks (:func:`fit_surface_model`).
     """
     n_cases = pick(8, 50) if n_cases is None else int(n_cases)
-    shape = tuple(pick((64, 64), (128, 128)) if shape is None else shape)
+    shape = (64, 64) if shape is None else tuple(shape)
     if n_cases < 1:
         raise ValueError(f"n_cases must be >= 1, got {n_cases}")
     start = time.perf_counter()
@@ -197,10 +204,10 @@ class StageComparison:
 def compare_stages(n_cases=None, *, shape=None, n_simulations=19, seed=0, block=16,
                    n_blocks=10, l_filter=20.0, names=SURFACE_PARAMETERS) -> StageComparison:
     """Fit and check ``n_cases`` L-filtered synthetic measurements (every other one with holes)
-    at both stages (module docstring). Defaults: 3 cases of 64 x 64 (quick), 12 of 128 x 128
-    (``ROUGHGP_FULL``)."""
-    n_cases = pick(3, 12) if n_cases is None else int(n_cases)
-    shape = tuple(pick((64, 64), (128, 128)) if shape is None else shape)
+    at both stages (module docstring). Defaults: 4 cases of 96 x 96 (quick; 3 of 64 x 64 were
+    too few and too small to tell the stages apart), 12 of 128 x 128 (``ROUGHGP_FULL``)."""
+    n_cases = pick(4, 12) if n_cases is None else int(n_cases)
+    shape = tuple(pick((96, 96), (128, 128)) if shape is None else shape)
     stages = ("form-removed", "filtered")
     outside = {stage: [] for stage in stages}
     ratio = {stage: [] for stage in stages}

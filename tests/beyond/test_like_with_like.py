@@ -40,3 +40,23 @@ def test_an_l_filtered_eq18_surface_is_reproduced_only_like_with_like():
     assert any("L: Gaussian" in op for op in like.operators)
     unlike = check_model(fits["filtered"], z, n_simulations=19, seed=0)
     assert "Sal" in unlike.outside
+
+
+def test_simulate_from_puts_the_draw_through_the_chain_unless_asked_not_to(tmp_path, capsys):
+    from roughgp.cli.main import main
+    model = FittedModel("eq18", TRUTH.hyperparameters, (1.0, 1.0),
+                        cutoffs={"form": "plane", "s_um": None, "l_um": 10.0})
+    path = model.save(tmp_path / "m.json")
+    heights = {}
+    for name, extra in (("chain", []), ("stage", ["--model-stage"])):
+        out = tmp_path / f"{name}.npy"
+        argv = ["simulate", "--from", str(path), "--shape", "64", "64", "--seed", "2", "--out",
+                str(out), *extra]
+        assert main(argv) == 0
+        heights[name] = np.load(out)
+    err = capsys.readouterr().err
+    assert "L: Gaussian 10 um" in err
+    assert np.std(heights["chain"]) < 0.9 * np.std(heights["stage"])
+    code = main(["simulate", "--model-stage", "ground", "--shape", "8", "8", "--out",
+                 str(tmp_path / "g.npy")])
+    assert code == 2 and "--model-stage is for a draw from a model file" in capsys.readouterr().err
