@@ -22,15 +22,16 @@ __all__ = ['add_parser', 'run']
 
 _CHECK = """\
 Place the texture parameters of a measurement among those of N simulations of a fitted
-model (a model file of 'roughgp fit'): the model's operators (form removal, S- and
-L-filters) are applied to both; for each parameter the measured value, the simulated range
+model (a model file of 'roughgp fit'): the simulations go through the rest of the
+measurement's operator chain (its holes, form removal, S- and L-filters) as the measurement
+went; for each parameter the measured value, the simulated range
 and median, and the measurement's rank among the simulations. A parameter whose measured
 value lies outside the simulated range is named: with N simulations a model that describes
 the measurement puts it outside with probability 2 / (N + 1) (10 % for the default 19), so
 an outside parameter is evidence against the model, an inside one no proof for it. A
 Gaussian model (eq 8) shows here what it misses: skewness, kurtosis, Spk / Svk. Holes: the
 height parameters are of the measured points (the simulations get the same holes), Sal,
-Str, Std of the measurement filled by the model. --plot writes a figure (.png, .pdf, .svg).
+Str, Std of both with the holes set to the mean height. --plot writes a figure (.png, .pdf, .svg).
 
 example:
   roughgp check land-model.json land.x3p --simulations 19 --seed 0 --plot check.png"""

@@ -5,10 +5,8 @@ file (:mod:`roughgp.beyond.measured`). Argument handling and the printed table o
 from __future__ import annotations
 
 import argparse
-import hashlib
 import math
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -48,10 +46,12 @@ examples:
 _PROFILE = """\
 Fit the spectral mixture ACVF of eq 21 (Q Gaussian lines plus white noise) to a profile by
 maximum marginal likelihood, as in section 3.3: candidates from Welch and periodogram PSD
-estimates, the best optimised. The F-operator (a least-squares line by default) and, when
-asked, S- and L-filters are applied first. A surface is reduced to its MEAN PROFILE: with
---axis x (default) the rows are averaged (over y, i.e. along the lay of a turned surface
-whose feed marks run along y), leaving a profile along x; --axis y averages the columns.
+estimates, the best optimised, on the heights after the F-operator (a least-squares line by
+default); S- and L-filters, when asked, are kept in the model file and applied to its
+simulations by 'roughgp check' and 'roughgp simulate --from' as to the measurement. A
+surface is reduced to its MEAN PROFILE: with --axis x (default) the rows are averaged (over
+y, i.e. along the lay of a turned surface whose feed marks run along y), leaving a profile
+along x; --axis y averages the columns.
 Prints the weights (um^2), periods 1/mu (um), line widths (the standard deviation of each
 spectral Gaussian, 1/um), the noise variance, the log marginal likelihood and the dominant
 period. The exact likelihood costs O(n^2) per step: a few thousand points take seconds to
@@ -64,12 +64,13 @@ _GROUND = """\
 Fit eq 18 (the rotated anisotropic exponential ACVF: variance, lambda_a along the lay,
 lambda_b across it, the lay angle) plus white noise (eq 8) to a measured surface, holes
 allowed: maximum block composite likelihood on the measured points of --blocks random
-windows of --block x --block points (roughgp.inference.block_fit). The F-operator (plane by
-default; --form cylinder for a curved part such as a bullet land) and the L-filter (default:
-the standard's, the largest preferred nesting index <= a fifth of the field) are applied
-first; no S-filter by default (the model's noise stands for the instrument's). A correlation
-length beyond the field is not identified by one field: the L-filter keeps the fit to the
-roughness. --non-gaussian keeps the heights' skewness and kurtosis in the model (its
+windows of --block x --block points (roughgp.inference.block_fit). The model describes the
+heights after the F-operator (plane by default; --form cylinder for a curved part such as a
+bullet land). The S- and L-filters (default: no S-filter, the model's noise stands for the
+instrument's; the standard's L-filter, the largest preferred nesting index <= a fifth of the
+field) are kept in the model file as the rest of the measurement's chain: 'roughgp check'
+and 'roughgp simulate --from' put the simulations through them as the measurement went
+(like with like). --non-gaussian keeps the heights' skewness and kurtosis in the model (its
 simulations are then Johnson-transformed GPs, roughgp.beyond.non_gaussian).
 
 example:
@@ -122,12 +123,6 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     g.set_defaults(func=run)
 
 
-def _checksum(path) -> str:
-    digest = hashlib.sha256()
-    with open(path, "rb") as handle:
-        for chunk in iter(lambda: handle.read(1 << 20), b""):
-            digest.update(chunk)
-    return digest.hexdigest()
 
 
 def run(args) -> int:
@@ -138,8 +133,8 @@ def run(args) -> int:
     check_cutoffs(operators, heights.z.shape, heights.spacing)
     for note in heights.notes:
         err(f"note: {args.file}: {note}")
-    data = {"file": Path(args.file).name, "sha256": _checksum(args.file),
-            "reader": heights.reader, "spacing_from": heights.spacing_source}
+    from roughgp.beyond.measured.provenance import of_file
+    data = of_file(args.file, heights)
     start = time.perf_counter()
     if args.model == "profile":
         model = _fit_profile(args, heights, operators, data)
@@ -216,7 +211,8 @@ def _fit_ground(args, heights, operators, data):
     hp = model.hyperparameters
     name = "eq 18" if args.nu == 0.5 else f"eq 18 with a Matern nu = {args.nu:g} profile"
     print(f"{name} plus white noise (eq 8) fitted to {args.file}")
-    print_wrapped(f"operators: {'; '.join(model.operators)}")
+    print_wrapped(f"operators: {'; '.join(model.operators)} (the model describes the heights "
+                  f"after the F-operator; the filters are applied to its simulations)")
     for note in result.texture.cutoffs.reason.split("; ") if result.texture.cutoffs.reason \
             else ():
         print_wrapped(f"note: {note}")
@@ -227,10 +223,8 @@ def _fit_ground(args, heights, operators, data):
     print(f"  noise variance        {hp['noise_variance_um2']:>12.4g} um^2")
     print(f"  block composite log likelihood {fit.log_likelihood:.6g} ({fit.n_points} "
           f"measured points in {len(fit.blocks)} blocks of {args.block} x {args.block})")
-    extent = min(n * d for n, d in zip(z.shape, heights.spacing))
-    if hp["lambda_a_um"] > extent:
-        print_wrapped(f"note: lambda_a exceeds the field's shorter side ({extent:.4g} um): one "
-                      f"field does not pin it down; an L-filter keeps the fit to the roughness")
+    for note in result.range_notes:
+        print_wrapped(f"note: {note}")
     _print_marginal(model)
     return model
 

@@ -44,7 +44,10 @@ writes a profile.
 
 With --from MODEL.json (a model file of 'roughgp fit') and no KIND, the surface is drawn
 from that fitted model instead, at the model's spacing unless --spacing is given (a profile
-model: --shape 1 N).
+model: --shape 1 N). The draw is put through the rest of the measurement's operator chain
+(the model describes the heights after the F-operator; the file's S- and L-filters follow,
+as 'roughgp check' does), so the file holds heights like the measurement's texture heights;
+--model-stage writes the draw before them (for 'roughgp texture' to filter).
 
 examples:
   roughgp simulate ground --shape 2000 2000 --seed 1 --out figure2.x3p     (figure 2)
@@ -107,6 +110,9 @@ def add_parser(sub, formatter) -> None:
     p.add_argument("--spacing", type=float, metavar="D",
                    help=f"with --from: grid spacing in um, {bounds_text('--spacing')} "
                         f"(default: the model's)")
+    p.add_argument("--model-stage", action="store_true",
+                   help="with --from: write the draw at the model's stage, before the rest of "
+                        "the operator chain (the S- and L-filters)")
     add_force_option(p)
     p.set_defaults(func=run, kind=None)
     kinds = p.add_subparsers(dest="kind", metavar="KIND", required=False,
@@ -314,6 +320,12 @@ def _run_model(args) -> int:
     start = time.perf_counter()
     z = model.simulate(shape, seed=seed, spacing=spacing)
     _check_drawn(z)
+    if not args.model_stage:
+        from roughgp.beyond.measured.fit import rest_of_chain
+        chain = rest_of_chain(model, z, spacing)
+        z = chain.sl
+        err(f"through the rest of the chain ({model.stage} model): "
+            f"{'; '.join(chain.operators)} (--model-stage: the draw before it)")
     err(f"drawn in {time.perf_counter() - start:.2f} s; Sq = {np.std(z):.4g} um")
     if len(spacing) == 2 and spacing[0] != spacing[1] and out.suffix.lower() == ".csv":
         raise UsageError("the model's spacing differs along y and x: a .csv stores one "
@@ -390,6 +402,8 @@ def run(args) -> int:
     if args.model is not None:
         raise UsageError(f"--from draws from a model file: give it without the KIND "
                          f"{args.kind!r}")
+    if args.model_stage:
+        raise UsageError("--model-stage is for a draw from a model file (--from MODEL.json)")
     shape = _check_shape(args)
     out, = check_outputs(("--out", args.out, "heights"), force=args.force)
     _check_option_scales(args)

@@ -6,7 +6,7 @@ from __future__ import annotations
 import hashlib
 from pathlib import Path
 
-__all__ = ["source_files", "update_with_files"]
+__all__ = ["file_sha256", "source_files", "update_with_files"]
 
 
 def source_files(path: Path):
@@ -26,3 +26,12 @@ def update_with_files(digest, files, root: Path) -> None:
     for path in files:
         digest.update(str(Path(path).relative_to(root)).encode() + b"\0")
         digest.update(hashlib.sha256(Path(path).read_bytes()).digest())
+
+
+def file_sha256(path) -> str:
+    """The SHA-256 of one file's bytes (hex), read in 1 MiB chunks."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        for chunk in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(chunk)
+    return digest.hexdigest()

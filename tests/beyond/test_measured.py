@@ -38,10 +38,13 @@ def test_model_file_round_trip_and_versions(tmp_path):
     again = FittedModel.load(path)
     assert again == model
     record = json.loads(path.read_text())
-    assert record["format"] == "roughgp-model" and record["version"] == 1
-    record["version"] = 2
-    path.write_text(json.dumps(record))
-    with pytest.raises(ModelFileError, match="version 2"):
+    assert record["format"] == "roughgp-model" and record["version"] == 2
+    assert record["stage"] == model.stage
+    old = {k: v for k, v in record.items() if k != "stage"}
+    path.write_text(json.dumps({**old, "version": 1}))
+    assert FittedModel.load(path).stage == "filtered"  # what version 1 fitted
+    path.write_text(json.dumps({**record, "version": 3}))
+    with pytest.raises(ModelFileError, match="version 3"):
         FittedModel.load(path)
     path.write_text("{not json")
     with pytest.raises(ModelFileError, match="not valid JSON"):
@@ -52,9 +55,9 @@ def test_model_file_round_trip_and_versions(tmp_path):
 
 
 @pytest.mark.parametrize("changes, message", [
-    ({"lambda_a_um": -1.0}, "lambda_a_um must be > 0"),
-    ({"noise_variance_um2": float("nan")}, "noise_variance_um2 must be finite"),
-    ({"angle_deg": float("inf")}, "angle_deg must be finite"),
+    ({"lambda_a_um": -1.0}, r"lambda_a_um must be a finite number in \(0"),
+    ({"noise_variance_um2": float("nan")}, "noise_variance_um2 must be a finite number"),
+    ({"angle_deg": float("inf")}, "angle_deg must be a finite number"),
 ])
 def test_model_refuses_bad_hyperparameters(changes, message):
     with pytest.raises(ModelFileError, match=message):
@@ -130,13 +133,14 @@ def test_check_model_places_its_own_draw_inside_and_flags_skewed_heights():
     assert {p.name for p in check.parameters} >= {"Sq", "Sal", "Str", "Std", "Spk", "Svk"}
 
 
-def test_check_model_with_holes_fills_for_the_spatial_parameters():
+def test_check_model_with_holes_gives_the_simulations_the_same_holes():
     model = _model()
     z = model.simulate((64, 64), seed=12)
     z[10:14, 20:30] = np.nan
     check = check_model(model, z, n_simulations=5, seed=0)
     assert check.notes and "unmeasured" in check.notes[0]
     assert all(math.isfinite(p.measured) for p in check.parameters)
+    np.testing.assert_array_equal(np.isnan(check.simulated_heights), np.isnan(z))
 
 
 def test_form_heights_give_back_the_removed_form():

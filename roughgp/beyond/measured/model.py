@@ -5,8 +5,21 @@ The paper's loop is: measure a surface, fit the GP, simulate new surfaces like i
 their units, the height distribution (Gaussian, eq 8, or a Johnson transform of prescribed
 skewness and kurtosis, :mod:`roughgp.beyond.non_gaussian`), the operators applied to the data
 before the fit (form removal, S- and L-filters), the data it was fitted on and the fit's log
-likelihood. ``save`` / ``load`` write and read it (``format: roughgp-model``, ``version: 1``);
-``simulate(shape, seed=...)`` draws new surfaces from it.
+likelihood. ``save`` / ``load`` write and read it (``format: roughgp-model``, ``version: 2``;
+a file of version 1 is read as stage ``"filtered"``, what version 1 fitted; the schema is
+:mod:`roughgp.beyond.measured.schema`); ``simulate(shape, seed=...)`` draws new surfaces from
+it.
+
+The stage of the operator chain (form removal F, then the S- and L-filters) at which the model
+describes the surface is ``stage``:
+
+* ``"form-removed"`` (what :func:`~roughgp.beyond.measured.fit.fit_surface_model` fits): the
+  heights after F, before S and L. A simulation is put through the rest of the chain (F again,
+  S, L, with the measurement's holes) before it is compared with the measurement
+  (:func:`roughgp.beyond.measured.fit.rest_of_chain`);
+* ``"filtered"``: the heights after every operator of ``cutoffs``; simulations are compared
+  as drawn (least-squares plane removed). A stationary ACVF fitted there cannot have the
+  filtered heights' covariance (:mod:`roughgp.beyond.measured.fit` says why and what it costs).
 
 Equations:
 
@@ -35,38 +48,23 @@ from pathlib import Path
 
 import numpy as np
 
+from roughgp.beyond.measured.schema import (
+    EQUATIONS,
+    MAX_FILE_BYTES,
+    MODEL_FORMAT,
+    STAGES,
+    ModelFileError,
+    check_fields,
+    validate_record,
+)
 from roughgp.common.checks import as_generator
 from roughgp.common.grid import normalize
 from roughgp.gp.noise import GaussianNoise
 
-__all__ = ["FittedModel", "MODEL_FORMAT", "MODEL_VERSION", "EQUATIONS", "ModelFileError"]
+__all__ = ["FittedModel", "MODEL_FORMAT", "MODEL_VERSION", "EQUATIONS", "STAGES", "ModelFileError"]
 
-MODEL_FORMAT = "roughgp-model"
-MODEL_VERSION = 1
-#: equation -> (kind, the hyperparameters it needs, with their units in the names)
-EQUATIONS = {
-    "eq18": ("surface", ("variance_um2", "lambda_a_um", "lambda_b_um", "angle_deg",
-                         "noise_variance_um2")),
-    "eq18-matern": ("surface", ("variance_um2", "lambda_a_um", "lambda_b_um", "angle_deg",
-                                "noise_variance_um2", "nu")),
-    "eq21": ("profile", ("weights_um2", "frequencies_per_um", "spectral_variances_per_um2",
-                         "noise_variance_um2")),
-}
+MODEL_VERSION = 2
 _MAX_SIMULATE_POINTS = 2 ** 24
-
-
-class ModelFileError(ValueError):
-    """A model file that is not a roughgp model, of another version, or incomplete."""
-
-
-def _finite(name, value, *, positive=False, nonnegative=False):
-    values = np.atleast_1d(np.asarray(value, dtype=np.float64))
-    if not np.all(np.isfinite(values)):
-        raise ModelFileError(f"{name} must be finite, got {value!r}")
-    if positive and not np.all(values > 0):
-        raise ModelFileError(f"{name} must be > 0, got {value!r}")
-    if nonnegative and not np.all(values >= 0):
-        raise ModelFileError(f"{name} must be >= 0, got {value!r}")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -86,6 +84,8 @@ class FittedModel:
         cutoffs: ``{"form": ..., "s_um": ..., "l_um": ...}``: the operators' settings.
         data: what the model was fitted on (file, shape, missing share, points used, ...).
         fit: how (method, log likelihood, seed, seconds, ...).
+        stage: ``"form-removed"`` or ``"filtered"``: where in the operator chain the model
+            describes the surface (module docstring).
     """
 
     equation: str
@@ -96,42 +96,11 @@ class FittedModel:
     cutoffs: dict = dataclasses.field(default_factory=dict)
     data: dict = dataclasses.field(default_factory=dict)
     fit: dict = dataclasses.field(default_factory=dict)
+    stage: str = "form-removed"
 
     def __post_init__(self):
-        if self.equation not in EQUATIONS:
-            raise ModelFileError(f"equation must be one of {sorted(EQUATIONS)}, "
-                                 f"got {self.equation!r}")
-        kind, names = EQUATIONS[self.equation]
-        missing = [n for n in names if n not in self.hyperparameters]
-        if missing:
-            raise ModelFileError(f"the {self.equation} model lacks {', '.join(missing)}")
-        hp = self.hyperparameters
-        want = 2 if kind == "surface" else 1
-        if len(self.spacing) != want:
-            raise ModelFileError(f"a {kind} model has {want} spacing value(s), got "
-                                 f"{list(self.spacing)}")
-        _finite("spacing", self.spacing, positive=True)
-        _finite("noise_variance_um2", hp["noise_variance_um2"], nonnegative=True)
-        if kind == "surface":
-            for name in ("variance_um2", "lambda_a_um", "lambda_b_um"):
-                _finite(name, hp[name], positive=True)
-            _finite("angle_deg", hp["angle_deg"])
-            if self.equation == "eq18-matern" and hp["nu"] not in (1.5, 2.5):
-                raise ModelFileError(f"nu must be 1.5 or 2.5 (0.5 is eq 18), got {hp['nu']!r}")
-        else:
-            lengths = {len(np.atleast_1d(hp[n])) for n in names[:3]}
-            if len(lengths) != 1:
-                raise ModelFileError("weights_um2, frequencies_per_um and "
-                                     "spectral_variances_per_um2 must have the same length")
-            _finite("weights_um2", hp["weights_um2"], positive=True)
-            _finite("frequencies_per_um", hp["frequencies_per_um"], nonnegative=True)
-            _finite("spectral_variances_per_um2", hp["spectral_variances_per_um2"],
-                    positive=True)
-        if self.marginal is not None:
-            s, k = (float(self.marginal.get(n, math.nan)) for n in ("skewness", "kurtosis"))
-            if not (math.isfinite(s) and math.isfinite(k) and k > s * s + 1):
-                raise ModelFileError(f"marginal needs a finite skewness and a kurtosis > "
-                                     f"skewness**2 + 1, got {self.marginal!r}")
+        check_fields(self.equation, self.hyperparameters, self.spacing, self.marginal,
+                     self.cutoffs, self.stage, self.operators)
 
     # ------------------------------------------------------------------ what it is
     @property
@@ -231,7 +200,7 @@ class FittedModel:
     def to_dict(self) -> dict:
         from roughgp import __version__
         return {"format": MODEL_FORMAT, "version": MODEL_VERSION, "equation": self.equation,
-                "kind": self.kind, "description": self.describe(),
+                "kind": self.kind, "stage": self.stage, "description": self.describe(),
                 "hyperparameters": _plain(self.hyperparameters),
                 "spacing_um": [float(d) for d in self.spacing],
                 "marginal": _plain(self.marginal), "operators": list(self.operators),
@@ -240,21 +209,9 @@ class FittedModel:
 
     @classmethod
     def from_dict(cls, values, source="the model") -> "FittedModel":
-        if not isinstance(values, dict) or values.get("format") != MODEL_FORMAT:
-            raise ModelFileError(f"{source} is not a roughgp model file (no \"format\": "
-                                 f"\"{MODEL_FORMAT}\"; write one with roughgp fit ... --out)")
-        if values.get("version") != MODEL_VERSION:
-            raise ModelFileError(f"{source} is a model file of version "
-                                 f"{values.get('version')!r}; this roughgp reads version "
-                                 f"{MODEL_VERSION}")
-        try:
-            return cls(equation=values["equation"], hyperparameters=dict(values["hyperparameters"]),
-                       spacing=tuple(values["spacing_um"]), marginal=values.get("marginal"),
-                       operators=tuple(values.get("operators", ())),
-                       cutoffs=dict(values.get("cutoffs", {})), data=dict(values.get("data", {})),
-                       fit=dict(values.get("fit", {})))
-        except (KeyError, TypeError) as exc:
-            raise ModelFileError(f"{source} lacks or garbles the field {exc}") from None
+        """A model from the parsed JSON of a model file, validated
+        (:func:`~roughgp.beyond.measured.schema.validate_record`)."""
+        return cls(**validate_record(values, source))
 
     def save(self, path) -> Path:
         path = Path(path)
@@ -264,6 +221,9 @@ class FittedModel:
     @classmethod
     def load(cls, path) -> "FittedModel":
         path = Path(path)
+        if path.is_file() and path.stat().st_size > MAX_FILE_BYTES:
+            raise ModelFileError(f"{path} is larger than a model file can be "
+                                 f"({MAX_FILE_BYTES} bytes)")
         try:
             values = json.loads(path.read_text())
         except UnicodeDecodeError:
@@ -271,6 +231,8 @@ class FittedModel:
         except json.JSONDecodeError as exc:
             raise ModelFileError(f"{path} is not valid JSON ({exc.msg}, line {exc.lineno})") \
                 from None
+        except RecursionError:
+            raise ModelFileError(f"{path} is nested too deeply to be a model file") from None
         return cls.from_dict(values, source=str(path))
 
 

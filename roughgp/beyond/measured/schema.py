@@ -1,0 +1,228 @@
+"""The model file's schema, validated once (beyond the paper).
+
+Every command that reads a model file (``roughgp simulate --from``, ``check``, ``fill
+--model``) reads it through :meth:`roughgp.beyond.measured.model.FittedModel.load`, which
+calls :func:`validate_record` on the parsed JSON before anything is built from it, and every
+:class:`~roughgp.beyond.measured.model.FittedModel` checks its fields with
+:func:`check_fields`. A file is refused, with a message that names the field and the allowed
+range, when it is larger than :data:`MAX_FILE_BYTES`, nested deeper than :data:`MAX_DEPTH`, of
+another format or version, lacks a required field or has one this version does not know, or
+holds a value of the wrong type (``true`` is not a number, ``"25"`` is not a length) or out of
+its range (:data:`RANGES`).
+"""
+
+from __future__ import annotations
+
+import math
+
+__all__ = ["ModelFileError", "MODEL_FORMAT", "MODEL_VERSIONS", "STAGES", "EQUATIONS", "RANGES",
+           "MAX_DEPTH", "MAX_FILE_BYTES", "MAX_MIXTURES", "FORMS", "AXES", "validate_record",
+           "check_fields"]
+
+MODEL_FORMAT = "roughgp-model"
+#: versions read: 1 (no stage: its models describe the filtered heights) and 2
+MODEL_VERSIONS = (1, 2)
+#: the stages of the operator chain a model may describe
+STAGES = ("form-removed", "filtered")
+#: equation -> (kind, the hyperparameters it needs, with their units in the names)
+EQUATIONS = {
+    "eq18": ("surface", ("variance_um2", "lambda_a_um", "lambda_b_um", "angle_deg",
+                         "noise_variance_um2")),
+    "eq18-matern": ("surface", ("variance_um2", "lambda_a_um", "lambda_b_um", "angle_deg",
+                                "noise_variance_um2", "nu")),
+    "eq21": ("profile", ("weights_um2", "frequencies_per_um", "spectral_variances_per_um2",
+                         "noise_variance_um2")),
+}
+OPTIONAL_HYPERPARAMETERS = ("mean_um",)
+MAX_MIXTURES = 50
+MAX_DEPTH = 8
+MAX_FILE_BYTES = 1 << 20
+MAX_OPERATORS = 16
+FORMS = ("plane", "polynomial", "cylinder", None)
+AXES = ("auto", "x", "y")
+#: name -> (low, high, low included): the allowed range of each number (um, um^2, deg, 1/um)
+RANGES = {
+    "spacing_um": (0.0, 1e6, False),
+    "variance_um2": (0.0, 1e12, False),
+    "weights_um2": (0.0, 1e12, False),
+    "noise_variance_um2": (0.0, 1e12, True),
+    "lambda_a_um": (0.0, 1e9, False),
+    "lambda_b_um": (0.0, 1e9, False),
+    "angle_deg": (-360.0, 360.0, True),
+    "frequencies_per_um": (0.0, 1e9, True),
+    "spectral_variances_per_um2": (0.0, 1e18, False),
+    "mean_um": (-1e9, 1e9, True),
+    "skewness": (-100.0, 100.0, True),
+    "kurtosis": (1.0, 1e6, False),
+    "s_um": (0.0, 1e9, False),
+    "l_um": (0.0, 1e9, False),
+    "degree": (0, 10, True),
+}
+_TOP = {"format", "version", "equation", "kind", "stage", "description", "hyperparameters",
+        "spacing_um", "marginal", "operators", "cutoffs", "data", "fit", "roughgp_version"}
+_REQUIRED = ("format", "version", "equation", "hyperparameters", "spacing_um")
+
+
+class ModelFileError(ValueError):
+    """A model file that is not a roughgp model, of another version, or incomplete."""
+
+
+def _is_number(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def number(name, value, *, where=None):
+    """``value`` as a float, refused unless it is a number (not a bool, not a string) within
+    ``RANGES[name]``."""
+    label = where or name
+    if not _is_number(value) and not _numpy_number(value):
+        raise ModelFileError(f"{label} must be a number, got {value!r}")
+    value = float(value)
+    low, high, closed = RANGES[name]
+    if not math.isfinite(value) or value > high or value < low or (value == low and not closed):
+        bracket = "[" if closed else "("
+        raise ModelFileError(f"{label} must be a finite number in {bracket}{low:g}, {high:g}], "
+                             f"got {value!r}")
+    return value
+
+
+def _numpy_number(value) -> bool:
+    import numpy as np
+    return isinstance(value, np.number) and not isinstance(value, np.bool_)
+
+
+def _numbers(name, values, count=None):
+    if hasattr(values, "tolist"):
+        values = values.tolist()
+    if not isinstance(values, (list, tuple)) or not values:
+        raise ModelFileError(f"{name} must be a non-empty list of numbers, got {values!r}")
+    if count is not None and len(values) not in count:
+        raise ModelFileError(f"{name} must hold {' or '.join(map(str, count))} values, got "
+                             f"{len(values)}")
+    return [number(name, v, where=f"{name}[{i}]") for i, v in enumerate(values)]
+
+
+def _depth(value, level=1):
+    if level > MAX_DEPTH:
+        raise ModelFileError(f"the model file is nested deeper than {MAX_DEPTH} levels")
+    if isinstance(value, dict):
+        for v in value.values():
+            _depth(v, level + 1)
+    elif isinstance(value, list):
+        for v in value:
+            _depth(v, level + 1)
+
+
+def check_fields(equation, hyperparameters, spacing, marginal, cutoffs, stage, operators=()):
+    """The fields of a model (file or object): types, names and ranges (module docstring)."""
+    if not isinstance(equation, str) or equation not in EQUATIONS:
+        raise ModelFileError(f"equation must be one of {sorted(EQUATIONS)}, got {equation!r}")
+    if not isinstance(stage, str) or stage not in STAGES:
+        raise ModelFileError(f"stage must be one of {list(STAGES)}, got {stage!r}")
+    kind, names = EQUATIONS[equation]
+    if not isinstance(hyperparameters, dict):
+        raise ModelFileError(f"hyperparameters must be an object, got {hyperparameters!r}")
+    missing = [n for n in names if n not in hyperparameters]
+    if missing:
+        raise ModelFileError(f"the {equation} model lacks {', '.join(missing)}")
+    extra = sorted(set(hyperparameters) - set(names) - set(OPTIONAL_HYPERPARAMETERS))
+    if extra:
+        raise ModelFileError(f"the {equation} model has unknown hyperparameters "
+                             f"{', '.join(map(str, extra))} (it takes {', '.join(names)})")
+    hp = hyperparameters
+    spacing = _numbers("spacing_um", spacing, count=(2 if kind == "surface" else 1,))
+    number("noise_variance_um2", hp["noise_variance_um2"])
+    if "mean_um" in hp:
+        number("mean_um", hp["mean_um"])
+    if kind == "surface":
+        for name in ("variance_um2", "lambda_a_um", "lambda_b_um", "angle_deg"):
+            number(name, hp[name])
+        for name in ("lambda_a_um", "lambda_b_um"):
+            if not 1e-3 * min(spacing) <= hp[name] <= 1e7 * max(spacing):
+                raise ModelFileError(f"{name} must be within [1e-3, 1e7] spacings "
+                                     f"([{1e-3 * min(spacing):g}, {1e7 * max(spacing):g}] um), "
+                                     f"got {hp[name]!r}")
+        if equation == "eq18-matern" and (not _is_number(hp["nu"]) or hp["nu"] not in (1.5, 2.5)):
+            raise ModelFileError(f"nu must be 1.5 or 2.5 (0.5 is eq 18), got {hp['nu']!r}")
+    else:
+        lists = [_numbers(n, hp[n], count=range(1, MAX_MIXTURES + 1)) for n in names[:3]]
+        if len({len(v) for v in lists}) != 1:
+            raise ModelFileError("weights_um2, frequencies_per_um and "
+                                 "spectral_variances_per_um2 must have the same length")
+    if marginal is not None:
+        if not isinstance(marginal, dict) or set(marginal) != {"skewness", "kurtosis"}:
+            raise ModelFileError(f"marginal must be null or {{\"skewness\": s, \"kurtosis\": k}}"
+                                 f", got {marginal!r}")
+        s, k = number("skewness", marginal["skewness"]), number("kurtosis", marginal["kurtosis"])
+        if not k > s * s + 1:
+            raise ModelFileError(f"marginal kurtosis must be > skewness**2 + 1, got {marginal!r}")
+    _check_cutoffs(cutoffs)
+    if not isinstance(operators, (list, tuple)) or len(operators) > MAX_OPERATORS or \
+            not all(isinstance(op, str) and len(op) <= 200 for op in operators):
+        raise ModelFileError(f"operators must be a list of at most {MAX_OPERATORS} short "
+                             f"strings, got {operators!r}")
+
+
+def _check_cutoffs(cutoffs):
+    if not isinstance(cutoffs, dict):
+        raise ModelFileError(f"cutoffs must be an object, got {cutoffs!r}")
+    extra = sorted(set(cutoffs) - {"form", "s_um", "l_um", "degree", "axis"})
+    if extra:
+        raise ModelFileError(f"cutoffs has unknown fields {', '.join(map(str, extra))} (it takes "
+                             f"form, s_um, l_um, degree, axis)")
+    form = cutoffs.get("form", "plane")
+    if form not in FORMS:
+        raise ModelFileError(f"cutoffs.form must be one of {list(FORMS)}, got {form!r}")
+    s, l = (None if cutoffs.get(n) is None else number(n, cutoffs[n], where=f"cutoffs.{n}")
+            for n in ("s_um", "l_um"))
+    if s is not None and l is not None and not s < l:
+        raise ModelFileError(f"cutoffs.s_um must be smaller than cutoffs.l_um, got {s:g} and "
+                             f"{l:g}")
+    if "degree" in cutoffs:
+        degree = cutoffs["degree"]
+        if not isinstance(degree, int) or isinstance(degree, bool) or not 0 <= degree <= 10:
+            raise ModelFileError(f"cutoffs.degree must be an integer in [0, 10], got {degree!r}")
+    if cutoffs.get("axis", "auto") not in AXES:
+        raise ModelFileError(f"cutoffs.axis must be one of {list(AXES)}, got "
+                             f"{cutoffs.get('axis')!r}")
+
+
+def validate_record(values, source="the model") -> dict:
+    """The parsed JSON of a model file, checked (module docstring); returns the fields for
+    :class:`~roughgp.beyond.measured.model.FittedModel` (``stage`` of a version-1 file:
+    ``"filtered"``)."""
+    if not isinstance(values, dict) or values.get("format") != MODEL_FORMAT:
+        raise ModelFileError(f"{source} is not a roughgp model file (no \"format\": "
+                             f"\"{MODEL_FORMAT}\"; write one with roughgp fit ... --out)")
+    version = values.get("version")
+    if not isinstance(version, int) or isinstance(version, bool) or version not in MODEL_VERSIONS:
+        raise ModelFileError(f"{source} is a model file of version {version!r}; this roughgp "
+                             f"reads versions {', '.join(map(str, MODEL_VERSIONS))}")
+    _depth(values)
+    missing = [n for n in _REQUIRED + (("stage",) if version > 1 else ()) if n not in values]
+    if missing:
+        raise ModelFileError(f"{source} lacks the field(s) {', '.join(missing)}")
+    extra = sorted(set(values) - _TOP)
+    if extra:
+        raise ModelFileError(f"{source} has unknown field(s) {', '.join(map(str, extra))}")
+    for name in ("data", "fit", "cutoffs"):
+        if not isinstance(values.get(name, {}), dict):
+            raise ModelFileError(f"{source}: {name} must be an object, got {values[name]!r}")
+    for name in ("description", "roughgp_version", "kind"):
+        if name in values and not isinstance(values[name], str):
+            raise ModelFileError(f"{source}: {name} must be a string, got {values[name]!r}")
+    fields = {"equation": values["equation"], "hyperparameters": values["hyperparameters"],
+              "spacing": values["spacing_um"], "marginal": values.get("marginal"),
+              "cutoffs": values.get("cutoffs", {}), "operators": values.get("operators", []),
+              "stage": values["stage"] if version > 1 else "filtered"}
+    try:
+        check_fields(**fields)
+    except ModelFileError as exc:
+        raise ModelFileError(f"{source}: {exc}") from None
+    if "kind" in values and values["kind"] != EQUATIONS[values["equation"]][0]:
+        raise ModelFileError(f"{source}: kind {values['kind']!r} does not match the equation "
+                             f"{values['equation']} ({EQUATIONS[values['equation']][0]})")
+    return {**fields, "spacing": tuple(float(v) for v in values["spacing_um"]),
+            "operators": tuple(fields["operators"]), "hyperparameters": dict(fields[
+                "hyperparameters"]), "cutoffs": dict(fields["cutoffs"]),
+            "data": dict(values.get("data", {})), "fit": dict(values.get("fit", {}))}
