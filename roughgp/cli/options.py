@@ -11,7 +11,7 @@ from roughgp.cli.output import UsageError
 from roughgp.common.checks import check_scale
 
 __all__ = ["cutoff", "add_form_options", "add_operator_options", "operator_settings",
-           "load_model", "check_scales"]
+           "load_model", "check_scales", "add_l_kind_options"]
 
 
 def check_scales(*options) -> None:
@@ -84,3 +84,17 @@ def load_model(path, option="MODEL"):
         raise UsageError(f"{option}: no such model file: {path}") from None
     except ModelFileError as exc:
         raise UsageError(f"{option}: {exc}") from None
+
+
+def add_l_kind_options(parser) -> None:
+    """--robust, --stratified: the L-filter's kind (``args.l_kind``; default the Gaussian)."""
+    group = parser.add_mutually_exclusive_group()
+    group.add_argument("--robust", dest="l_kind", action="store_const", const="robust",
+                       default="gaussian",
+                       help="L-filter: the robust Gaussian regression filter (ISO 16610-31 / "
+                            "-71, second order, Tukey biweight): its mean line does not follow "
+                            "spikes, pits or deep valleys")
+    group.add_argument("--stratified", dest="l_kind", action="store_const", const="stratified",
+                       help="L-filter: ISO 13565-1's for stratified surfaces (valleys suppressed, "
+                            "two Gaussian passes), on which Sk/Spk/Svk (Rk/Rpk/Rvk) are defined; "
+                            "e.g. plateau-honed surfaces")

@@ -4,8 +4,9 @@ handling and the printed table only.
 
 from __future__ import annotations
 
-from roughgp.cli.options import add_operator_options, operator_settings
+from roughgp.cli.options import add_l_kind_options, add_operator_options, operator_settings
 from roughgp.cli.output import (
+    UsageError,
     add_force_option,
     check_outputs,
     check_spacing,
@@ -46,6 +47,7 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                        help="ISO texture parameters (Sq, Sal, Str, ... / Ra, Rq, ...)")
     add_input_options(x)
     add_operator_options(x)
+    add_l_kind_options(x)
     x.add_argument("--unfiltered", action="store_true",
                    help="no F-, S- or L-operator: the parameters of the heights as read, "
                         "referred to their mean")
@@ -58,11 +60,13 @@ def run(args) -> int:
     """``roughgp texture FILE``: ISO surface-texture parameters."""
     check_spacing(args.spacing)
     operators = operator_settings(args)
+    if args.unfiltered and args.l_kind != "gaussian":
+        raise UsageError(f"--{args.l_kind} chooses the L-filter; --unfiltered applies none")
     check_outputs(("--json", args.json, "json"), inputs=(args.file,), force=args.force)
     heights = read_measurement(args.file, kind=args.kind, spacing=args.spacing,
                                channel=args.channel, unit=args.unit)
     report = filtered_parameters(heights.z, heights.spacing, **operators,
-                                 filtered=not args.unfiltered)
+                                 filtered=not args.unfiltered, l_kind=args.l_kind)
     shape = " x ".join(map(str, heights.z.shape))
     spacing = ", ".join(f"{d:g}" for d in heights.spacing)
     print(f"{report.standard} of {args.file}")
