@@ -19,7 +19,7 @@ weight the product of the two axes' Gaussians.
   residuals :math:`r = z - w`, :math:`\delta = (1 - (r/c)^2)^2` for :math:`|r| < c` and 0
   beyond, with :math:`c = 4.4\,\mathrm{median}|r|` (about three standard deviations of
   Gaussian residuals), recomputed each iteration from the plain filter's residuals on, until
-  the mean line changes by less than ``tol * c``. A spike or a deep valley then gets no
+  the scale :math:`c` or the mean line settles (``tol``). A spike or a deep valley then gets no
   weight and the mean line does not follow it, where the plain Gaussian mean line does.
 
 NaN marks an unmeasured point: it takes no weight (its :math:`\delta` is 0) and stays NaN in
@@ -146,15 +146,15 @@ def _fit(z0, delta, kernels, order):
     gram = gram / scale
     rhs = rhs / scale[..., 0]
     # near-singular windows (few points, a line of points): the zeroth-order value instead
-    eig = np.linalg.eigvalsh(gram)  # symmetric, non-negative definite
-    good = eig[..., 0] > 1e-8 * eig[..., -1]
+    # Hadamard's ratio det / prod(diag) in (0, 1]: near 0 for a near-singular window
+    good = np.linalg.det(gram) > 1e-10 * np.prod(np.diagonal(gram, axis1=-2, axis2=-1), axis=-1)
     out = mean0.copy()
     out[good] = np.linalg.solve(gram[good], rhs[good][..., None])[..., 0, 0]
     return out, m00
 
 
-def regression_filter(z, spacing, cutoff, *, order=2, robust=True, tol=1e-4,
-                      max_iter=100) -> RegressionFilter:
+def regression_filter(z, spacing, cutoff, *, order=2, robust=True, tol=1e-3,
+                      max_iter=50) -> RegressionFilter:
     """The (robust) Gaussian regression mean line of a profile (ISO 16610-31) or mean surface
     (ISO 16610-71) (module docstring).
 
@@ -165,7 +165,9 @@ def regression_filter(z, spacing, cutoff, *, order=2, robust=True, tol=1e-4,
         order: the local polynomial's degree, 0, 1 or 2 (2: the standard's choice for the
             robust filter, with the end correction that comes with it).
         robust: Tukey-biweight iterations (True) or the plain regression filter (False).
-        tol: the iterations stop when the mean line moves by less than ``tol * c``; > 0.
+        tol: the iterations stop when the mean line moves by less than ``tol * c`` or ``c``
+            changes by less than ``tol`` of itself (on a real map a few points at a border
+            can keep the mean line creeping after the scale has settled); > 0.
         max_iter: at most this many robust iterations, >= 1.
     """
     arr = height_map(z)
@@ -183,7 +185,7 @@ def regression_filter(z, spacing, cutoff, *, order=2, robust=True, tol=1e-4,
     kernels = _axis_kernels(cutoff, sp, order, 2 * order)
     delta = measured.astype(np.float64)
     mean, _ = _fit(z0, delta, kernels, order)
-    c, iterations, converged = None, 0, not robust
+    c, previous, iterations, converged = None, None, 0, not robust
     while robust and iterations < max_iter:
         residual = np.abs(arr - mean)[measured]
         c = ROBUST_C * float(np.median(residual))
@@ -196,9 +198,10 @@ def regression_filter(z, spacing, cutoff, *, order=2, robust=True, tol=1e-4,
         iterations += 1
         change = float(np.max(np.abs(new - mean)[measured]))
         mean = new
-        if change < tol * c:
+        if change < tol * c or (previous is not None and abs(c - previous) < tol * c):
             converged = True
             break
+        previous = c
     mean = np.where(measured, mean, np.nan)
     return RegressionFilter(mean, delta, c, iterations, converged)
 
