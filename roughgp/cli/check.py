@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 import time
 
-from roughgp.cli.options import load_model
+from roughgp.cli.options import add_spurious_options, load_model, remove_spurious
 from roughgp.cli.output import (
     UsageError,
     add_force_option,
@@ -50,6 +50,7 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                    help="seed of the simulations (default 0)")
     c.add_argument("--plot", metavar="FIGURE", help="write the figure (.png, .pdf or .svg)")
     c.add_argument("--json", metavar="OUT", help="also write the table as JSON (.json)")
+    add_spurious_options(c)
     add_force_option(c)
     c.set_defaults(func=run)
 
@@ -71,7 +72,8 @@ def run(args) -> int:
     err(f"simulating {args.simulations} {model.kind}s of {' x '.join(map(str, heights.z.shape))}"
         f" points from {args.model} ...")
     start = time.perf_counter()
-    result = check_model(model, heights.z, heights.spacing if model.kind == "surface"
+    z = remove_spurious(args, heights)
+    result = check_model(model, z, heights.spacing if model.kind == "surface"
                          else (heights.spacing[-1],), n_simulations=args.simulations,
                          seed=args.seed)
     err(f"({time.perf_counter() - start:.1f} s)")

@@ -4,7 +4,13 @@ handling and the printed table only.
 
 from __future__ import annotations
 
-from roughgp.cli.options import add_l_kind_options, add_operator_options, operator_settings
+from roughgp.cli.options import (
+    add_l_kind_options,
+    add_operator_options,
+    add_spurious_options,
+    operator_settings,
+    remove_spurious,
+)
 from roughgp.cli.output import (
     UsageError,
     add_force_option,
@@ -48,6 +54,7 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     add_input_options(x)
     add_operator_options(x)
     add_l_kind_options(x)
+    add_spurious_options(x)
     x.add_argument("--unfiltered", action="store_true",
                    help="no F-, S- or L-operator: the parameters of the heights as read, "
                         "referred to their mean")
@@ -65,7 +72,8 @@ def run(args) -> int:
     check_outputs(("--json", args.json, "json"), inputs=(args.file,), force=args.force)
     heights = read_measurement(args.file, kind=args.kind, spacing=args.spacing,
                                channel=args.channel, unit=args.unit)
-    report = filtered_parameters(heights.z, heights.spacing, **operators,
+    z = remove_spurious(args, heights, operators["form"])
+    report = filtered_parameters(z, heights.spacing, **operators,
                                  filtered=not args.unfiltered, l_kind=args.l_kind)
     shape = " x ".join(map(str, heights.z.shape))
     spacing = ", ".join(f"{d:g}" for d in heights.spacing)
