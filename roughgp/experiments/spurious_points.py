@@ -1,5 +1,7 @@
 r"""Spurious points: the chapter's computations (beyond the paper).
 
+* :func:`feature_profiles`, :func:`stratified_comparison`: the robust filters on the cases of
+  their standards (a spike, a deep valley, a step; a plateau-honed profile with waviness).
 * :func:`benchmark`: eq 18 and plateau-honed surfaces (eq 19-20) with spikes and pits of
   3-20 sd injected at known points (a share :data:`SHARES` of the points, sign at random):
   each method of :data:`roughgp.beyond.measured.spurious.METHODS` (and the GP detector
@@ -26,13 +28,18 @@ from roughgp.beyond.measured.fill import fill_measured_surface
 from roughgp.beyond.measured.self_check import hide_discs, rmse_of
 from roughgp.beyond.measured.spurious import METHODS, detect_spurious, flag_by
 from roughgp.experiments.measured_surfaces import CV_FILES, DATA, centre_crop
+from roughgp.metrology.filters import gaussian_filter
 from roughgp.metrology.measurement import read_measurement
+from roughgp.metrology.robust_filters import robust_gaussian_filter, robust_l_filter
+from roughgp.metrology.stratified import stratified_l_filter
+from roughgp.metrology.texture_heights import material_ratio_parameters
 from roughgp.metrology.texture_report import filtered_parameters
 from roughgp.models import surfaces
 
 __all__ = ["SHARES", "AMPLITUDES", "GROUND", "HONED_STEPS", "KINDS", "REAL_FILES",
            "TEXTURE_KEYS", "Injected", "inject", "draw_surface", "BenchmarkRow", "benchmark",
-           "detection_targets", "RealFileStudy", "real_file_study"]
+           "detection_targets", "RealFileStudy", "real_file_study", "plateau_honed_profile",
+           "feature_profiles", "stratified_comparison"]
 
 SHARES = (0.0, 0.001, 0.01)  #: shares of the points injected (0: the clean surface)
 AMPLITUDES = (3.0, 20.0)  #: spikes and pits of this many sd (uniform), sign at random
@@ -194,3 +201,53 @@ def real_file_study(name, *, crop=None, share=0.02, seed=0) -> RealFileStudy:
                          float(np.mean(inside)), bool(check["GP"] < check["linear"]), texture,
                          {"detection": detection_seconds,
                           "fills": time.perf_counter() - start})
+
+
+# --------------------------------------------------------------------------- the filters' cases
+
+def plateau_honed_profile(n=8000, seed=1):
+    """A plateau-honed profile with known truth (spacing 1 um): a plateau of fine roughness
+    (sd 0.2 um) cut by 40 parabolic valleys 10-40 um wide and 3-8 um deep, and a waviness of
+    3 um at 4 mm. Returns ``(truth, plateau, waviness)``: the roughness, the boolean map of the
+    plateau points, the waviness (the measured profile is ``truth + waviness``)."""
+    rng = np.random.default_rng(seed)
+    x = np.arange(n, dtype=np.float64)
+    valleys = np.zeros(n)
+    for c in rng.choice(n, 40, replace=False):
+        width, depth = rng.uniform(10, 40), rng.uniform(3, 8)
+        valleys = np.minimum(valleys, -depth * np.clip(1 - ((x - c) / width) ** 2, 0, None))
+    return 0.2 * rng.normal(size=n) + valleys, valleys == 0, 3 * np.sin(2 * np.pi * x / 4000)
+
+
+def feature_profiles(n=4000, cutoff=400.0, seed=3) -> dict:
+    """The standard's cases on a profile of fine roughness (sd 0.1 um, spacing 1 um): a spike
+    (50 um), a deep narrow valley (20 um, 10 points) and a step (10 um). ``{case: (z, the
+    Gaussian mean line, the robust one)}``."""
+    rng = np.random.default_rng(seed)
+    x = np.arange(n, dtype=np.float64)
+    noise = 0.1 * rng.normal(size=n)
+    spike = noise.copy()
+    spike[n // 2] = 50.0
+    valley = noise.copy()
+    valley[n // 2:n // 2 + 10] = -20.0
+    step = noise + np.where(x < n // 2, 0.0, 10.0)
+    return {name: (z, gaussian_filter(z, 1.0, cutoff), robust_gaussian_filter(z, 1.0, cutoff))
+            for name, z in (("spike", spike), ("deep valley", valley), ("step", step))}
+
+
+def stratified_comparison(cutoff=800.0, seed=1) -> dict:
+    """Rk, Rpk, Rvk of :func:`plateau_honed_profile` after the Gaussian, the ISO 13565-1 and
+    the robust L-filter, beside those of the true roughness (half a cut-off dropped at each
+    end): ``{filter: {"Rk", "Rpk", "Rvk", "plateau": median roughness on the plateau}}``."""
+    truth, plateau, waviness = plateau_honed_profile(seed=seed)
+    z = truth + waviness
+    inner = slice(int(cutoff), -int(cutoff))
+    out = {}
+    for name, rough in (("true roughness", truth),
+                        ("Gaussian", z - gaussian_filter(z, 1.0, cutoff)),
+                        ("ISO 13565-1", stratified_l_filter(z, 1.0, cutoff)),
+                        ("robust", robust_l_filter(z, 1.0, cutoff))):
+        p = material_ratio_parameters(rough[inner])
+        out[name] = {k: float(p[k]) for k in ("Rk", "Rpk", "Rvk")}
+        out[name]["plateau"] = float(np.median(rough[inner][plateau[inner]]))
+    return out

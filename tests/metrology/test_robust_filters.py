@@ -12,6 +12,7 @@ import math
 import numpy as np
 import pytest
 
+from roughgp.experiments.spurious_points import plateau_honed_profile, stratified_comparison
 from roughgp.metrology.filters import gaussian_filter
 from roughgp.metrology.robust_filters import (
     GAMMA,
@@ -154,37 +155,21 @@ def test_step_is_smoothed_by_both_filters():
     assert abs(robust[2000 - int(1.5 * LC)]) < 0.05
 
 
-def _plateau_honed(seed=1):
-    rng = np.random.default_rng(seed)
-    n = 8000
-    x = np.arange(n) * D
-    valleys = np.zeros(n)
-    for c in rng.choice(n, 40, replace=False):
-        width, depth = rng.uniform(10, 40), rng.uniform(3, 8)
-        valleys = np.minimum(valleys, -depth * np.clip(1 - ((x - c) / width) ** 2, 0, None))
-    plateau = 0.2 * rng.normal(size=n)
-    return plateau + valleys, valleys == 0, 3 * np.sin(2 * np.pi * x / 4000)
-
-
 def test_plateau_honed_profile_stratified_and_robust_beat_gaussian():
     """The ISO 13565-1 literature case: the Gaussian mean line sinks into the valleys, so its
     roughness plateau sits above zero and Rk, Rpk come out too large; the two-pass filter
-    halves that, the robust filter removes it."""
-    truth, plateau, waviness = _plateau_honed()
-    z = truth + waviness
-    cut = 800.0
-    inner = slice(800, -800)
-    true_params = material_ratio_parameters(truth[inner])
-    error = {}
-    for name, rough in (("gaussian", z - gaussian_filter(z, D, cut)),
-                        ("stratified", stratified_l_filter(z, D, cut)),
-                        ("robust", robust_l_filter(z, D, cut))):
-        p = material_ratio_parameters(rough[inner])
-        error[name] = (abs(np.median(rough[inner][plateau[inner]])),
-                       abs(p["Rk"] - true_params["Rk"]), abs(p["Rpk"] - true_params["Rpk"]))
+    reduces that, the robust filter removes most of it."""
+    table = stratified_comparison()
+    true = table["true roughness"]
+
+    def error(name):
+        p = table[name]
+        return (abs(p["plateau"] - true["plateau"]), abs(p["Rk"] - true["Rk"]),
+                abs(p["Rpk"] - true["Rpk"]))
+
     for i in range(3):
-        assert error["stratified"][i] < 0.6 * error["gaussian"][i]
-        assert error["robust"][i] < 0.2 * error["gaussian"][i]
+        assert error("ISO 13565-1")[i] < 0.6 * error("Gaussian")[i]
+        assert error("robust")[i] < 0.2 * error("Gaussian")[i]
 
 
 def test_stratified_mean_line_on_a_profile_without_valleys_is_close_to_gaussian():
@@ -222,7 +207,7 @@ def test_surface_spike_is_not_followed():
 
 
 def test_texture_with_robust_and_stratified_l_filters():
-    truth, _, waviness = _plateau_honed(seed=2)
+    truth, _, waviness = plateau_honed_profile(seed=2)
     z = (truth + waviness)[:4000]
     gauss = filtered_parameters(z, D, s=None, l=800.0)
     strat = filtered_parameters(z, D, s=None, l=800.0, l_kind="stratified")
