@@ -138,7 +138,8 @@ def remove_spurious(args, heights, form="plane"):
                                 seed=getattr(args, "seed", 0))
     except ValueError as exc:
         raise UsageError(f"--spurious: {args.file}: {exc}") from None
-    err(f"--spurious: {found.summary()}; removed (treated as unmeasured) in {found.seconds:.1f} s")
+    removed = "removed (treated as unmeasured)" if found.count else "nothing removed"
+    err(f"--spurious: {found.summary()}; {removed} ({found.seconds:.1f} s)")
     if flagged_path is not None:
         dy, dx = heights.spacing
         write_heights(flagged_path, found.flagged.astype(np.float64),
