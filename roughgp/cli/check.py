@@ -69,10 +69,10 @@ def run(args) -> int:
     if heights.kind != model.kind:
         raise UsageError(f"{args.file} holds a {heights.kind}; {args.model} is a {model.kind} "
                          f"model")
+    z = remove_spurious(args, heights, model.cutoffs.get("form", "plane"))  # the model's F
     err(f"simulating {args.simulations} {model.kind}s of {' x '.join(map(str, heights.z.shape))}"
         f" points from {args.model} ...")
     start = time.perf_counter()
-    z = remove_spurious(args, heights)
     result = check_model(model, z, heights.spacing if model.kind == "surface"
                          else (heights.spacing[-1],), n_simulations=args.simulations,
                          seed=args.seed)
