@@ -36,7 +36,7 @@ from roughgp.common.grid import normalize
 from roughgp.common.threads import one_blas_thread
 from roughgp.sampling.grid_sampler import acvf_of
 
-__all__ = ["LocalFill", "fill_gaps_locally"]
+__all__ = ["LocalFill", "lag_table", "fill_gaps_locally"]
 
 
 @dataclass(frozen=True)
@@ -63,7 +63,7 @@ class LocalFill:
         return self.mean
 
 
-def _lag_table(acvf, shape, spacing):
+def lag_table(acvf, shape, spacing):
     """The ACVF on every lag of a grid of ``shape``: ``table[dy + ny - 1, dx + nx - 1]``."""
     ny, nx = shape
     dy, dx = spacing
@@ -101,7 +101,7 @@ def fill_gaps_locally(z, kernel, *, noise_variance, spacing=1.0, mask=None, tile
     min_observed = check_integer("min_observed", min_observed, 1)
     shape, spacing = normalize(z.shape, spacing)
     ny, nx = shape
-    table = _lag_table(acvf_of(kernel), shape, spacing)
+    table = lag_table(acvf_of(kernel), shape, spacing)
     variance = float(table[ny - 1, nx - 1])
     observed = ~missing
     targets_map = missing

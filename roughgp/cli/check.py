@@ -7,7 +7,13 @@ from __future__ import annotations
 import math
 import time
 
-from roughgp.cli.options import bounds_text, load_model, read_input
+from roughgp.cli.options import (
+    add_spurious_options,
+    bounds_text,
+    load_model,
+    read_input,
+    remove_spurious,
+)
 from roughgp.cli.output import (
     UsageError,
     add_force_option,
@@ -51,6 +57,7 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                    help=f"seed of the simulations, {bounds_text('--seed')} (default 0)")
     c.add_argument("--plot", metavar="FIGURE", help="write the figure (.png, .pdf or .svg)")
     c.add_argument("--json", metavar="OUT", help="also write the table as JSON (.json)")
+    add_spurious_options(c)
     add_force_option(c)
     c.set_defaults(func=run)
 
@@ -66,10 +73,11 @@ def run(args) -> int:
         raise UsageError(f"{args.file} holds a {heights.kind} ("
                          f"{' x '.join(map(str, heights.z.shape))} points); {args.model} is a "
                          f"{model.kind} model: check it against a {model.kind}")
+    z = remove_spurious(args, heights, model.cutoffs.get("form", "plane"))  # the model's F
     err(f"simulating {args.simulations} {model.kind}s of {' x '.join(map(str, heights.z.shape))}"
         f" points from {args.model} ...")
     start = time.perf_counter()
-    result = check_model(model, heights.z, heights.spacing if model.kind == "surface"
+    result = check_model(model, z, heights.spacing if model.kind == "surface"
                          else (heights.spacing[-1],), n_simulations=args.simulations,
                          seed=args.seed)
     err(f"({time.perf_counter() - start:.1f} s)")

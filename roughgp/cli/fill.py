@@ -9,7 +9,13 @@ from pathlib import Path
 
 import numpy as np
 
-from roughgp.cli.options import add_form_options, bounds_text, read_input
+from roughgp.cli.options import (
+    add_form_options,
+    add_spurious_options,
+    bounds_text,
+    read_input,
+    remove_spurious,
+)
 from roughgp.cli.output import (
     UsageError,
     add_force_option,
@@ -61,6 +67,7 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     f.add_argument("--model", metavar="MODEL.json",
                    help="use this eq 18 model file (roughgp fit ground) instead of a fit")
     add_form_options(f, "F-operator removed and added back")
+    add_spurious_options(f)
     f.add_argument("--nu", choices=("0.5", "1.5", "2.5", "auto"), default="0.5",
                    help="smoothness of the fitted kernel: 0.5 is eq 18 (default); 1.5, 2.5 "
                         "a smoother Matern profile; auto: the one the self-check fills best "
@@ -111,7 +118,8 @@ def run(args) -> int:
         err(f"note: {args.file}: {note}")
     if heights.kind != "surface":
         raise UsageError(f"{args.file} holds a profile; fill needs a surface z[iy, ix]")
-    (dy, dx), z = heights.spacing, heights.z
+    (dy, dx), z = heights.spacing, remove_spurious(args, heights, None if args.form == "none"
+                                                   else args.form)
     spacing = dx if dy == dx else (dy, dx)
     if dy != dx and ".csv" in {f.suffix.lower() for f in (out, sd_out, band_out) if f}:
         raise UsageError(f"the spacing differs along y and x ({dy:g}, {dx:g} um): a .csv "
@@ -138,6 +146,8 @@ def run(args) -> int:
     if args.check and result.self_check is None:
         err(f"note: too few measured points ({(~missing).sum()}) for the self-check; the band "
             f"is the Gaussian one")
+    if args.spurious and result.self_checks:
+        err("note: the self-check holds out and scores only measured points not flagged spurious")
     for smoothness, check in result.self_checks.items():
         chosen = " <- used" if len(result.self_checks) > 1 and smoothness == result.nu else ""
         err(f"self-check: {check.summary()}{chosen}")

@@ -12,10 +12,12 @@ import numpy as np
 
 from roughgp.cli.options import (
     add_operator_options,
+    add_spurious_options,
     bounds_text,
     check_cutoffs,
     operator_settings,
     read_input,
+    remove_spurious,
 )
 from roughgp.cli.output import (
     UsageError,
@@ -111,6 +113,7 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                           help="eq 18 + noise on a measured surface with holes")
     add_input_options(g, kind=False, what="the surface, heights in um, NaN where missing")
     add_operator_options(g, s_default="none", l_default="auto")
+    add_spurious_options(g)
     g.add_argument("--nu", type=float, choices=(0.5, 1.5, 2.5), default=0.5,
                    help="smoothness: 0.5 is eq 18 (default); 1.5 or 2.5 its anisotropy with a "
                         "smoother Matern profile, for smooth surfaces (beyond the paper)")
@@ -195,7 +198,7 @@ def _fit_ground(args, heights, operators, data):
     if heights.kind != "surface":
         raise UsageError(f"{args.file} holds a profile; fit ground needs a surface z[iy, ix] "
                          f"(fit a profile with: roughgp fit profile)")
-    z = heights.z
+    z = remove_spurious(args, heights, operators["form"])
     check_block(args.file, args.block, z.shape)
     missing = np.isnan(z)
     err(f"{args.file}: {z.shape[0]} x {z.shape[1]} points, spacing "

@@ -10,12 +10,15 @@ import dataclasses
 import math
 import secrets
 
+import numpy as np
+
 from roughgp.cli.output import UsageError, err
 from roughgp.common.checks import check_scale
 
 __all__ = ["Bound", "BOUNDS", "bounds_text", "check_bounds", "cutoff", "add_form_options",
            "add_operator_options", "operator_settings", "check_cutoffs", "load_model",
-           "check_scales", "seed_or_fresh", "read_input", "Given"]
+           "check_scales", "seed_or_fresh", "read_input", "Given", "add_l_kind_options",
+           "add_spurious_options", "remove_spurious"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -199,3 +202,64 @@ def load_model(path, option="MODEL"):
         raise UsageError(f"{option}: cannot read the model file {path}: {why}") from None
     except ModelFileError as exc:
         raise UsageError(f"{option}: {exc}") from None
+
+
+def add_l_kind_options(parser) -> None:
+    """--robust, --stratified: the L-filter's kind (``args.l_kind``; default the Gaussian)."""
+    group = parser.add_mutually_exclusive_group()
+    group.add_argument("--robust", dest="l_kind", action="store_const", const="robust",
+                       default="gaussian",
+                       help="L-filter: the robust Gaussian regression filter (ISO 16610-31 / "
+                            "-71, second order, Tukey biweight): its mean line does not follow "
+                            "spikes, pits or deep valleys")
+    group.add_argument("--stratified", dest="l_kind", action="store_const", const="stratified",
+                       help="L-filter: ISO 13565-1's for stratified surfaces (valleys suppressed, "
+                            "two Gaussian passes), on which Sk/Spk/Svk (Rk/Rpk/Rvk) are defined; "
+                            "e.g. plateau-honed surfaces")
+
+
+def add_spurious_options(parser) -> None:
+    """--spurious, --flagged FILE: find the spurious measured points with the GP and leave them
+    out (:func:`remove_spurious`)."""
+    parser.add_argument("--spurious", action="store_true",
+                        help="find spurious measured points (spikes, pits) by the GP's "
+                             "leave-one-out scores under a fit without them (|score| > 3.89: "
+                             "1e-4 of a clean surface's points) and treat them as unmeasured; "
+                             "prints how many and where (default: no point is removed)")
+    parser.add_argument("--flagged", metavar="FILE",
+                        help="with --spurious: write the map of flagged points (1 flagged, 0 "
+                             "not; .npy, .csv or .x3p)")
+
+
+def remove_spurious(args, heights, form="plane"):
+    """With --spurious: the heights of ``heights`` (a Measurement) with the spurious points set
+    to NaN (:func:`roughgp.beyond.measured.spurious.detect_spurious`, after the F-operator
+    ``form``), the summary printed and the map written to --flagged (checked first); else the
+    heights as read."""
+    from roughgp.cli.output import check_outputs, err
+    if args.flagged and not args.spurious:
+        raise UsageError("--flagged writes the points --spurious flags: give --spurious too")
+    if not args.spurious:
+        return heights.z
+    from roughgp.beyond.measured.spurious import detect_spurious
+    from roughgp.metrology.writers import write_heights
+    flagged_path = check_outputs(("--flagged", args.flagged, "heights"), inputs=(args.file,),
+                                 force=getattr(args, "force", False))[0]
+    if heights.z.ndim != 2:
+        raise UsageError(f"--spurious: {args.file} holds a profile; the detection works on "
+                         f"surfaces z[iy, ix]")
+    try:
+        found = detect_spurious(heights.z, spacing=heights.spacing, form=form,
+                                seed=getattr(args, "seed", 0))
+    except ValueError as exc:
+        raise UsageError(f"--spurious: {args.file}: {exc}") from None
+    removed = "removed (treated as unmeasured)" if found.count else "nothing removed"
+    err(f"--spurious: {found.summary()}; {removed} ({found.seconds:.1f} s)")
+    if flagged_path is not None:
+        dy, dx = heights.spacing
+        write_heights(flagged_path, found.flagged.astype(np.float64),
+                      dx if dy == dx else (dy, dx),
+                      f"roughgp --spurious {args.file}: 1 where a measured point was flagged "
+                      f"spurious (|GP leave-one-out score| > {found.threshold:.3g}), 0 elsewhere")
+        err(f"wrote {flagged_path} (the map of the {found.count} flagged points)")
+    return np.where(found.flagged, np.nan, heights.z)

@@ -4,7 +4,15 @@ handling and the printed table only.
 
 from __future__ import annotations
 
-from roughgp.cli.options import add_operator_options, check_cutoffs, operator_settings, read_input
+from roughgp.cli.options import (
+    add_l_kind_options,
+    add_operator_options,
+    add_spurious_options,
+    check_cutoffs,
+    operator_settings,
+    read_input,
+    remove_spurious,
+)
 from roughgp.cli.output import UsageError, add_force_option, check_outputs, print_wrapped, write_json
 
 __all__ = ['add_parser', 'run']
@@ -38,6 +46,8 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                        help="ISO texture parameters (Sq, Sal, Str, ... / Ra, Rq, ...)")
     add_input_options(x)
     add_operator_options(x)
+    add_l_kind_options(x)
+    add_spurious_options(x)
     x.add_argument("--unfiltered", action="store_true",
                    help="no F-, S- or L-operator: the parameters of the heights as read, "
                         "referred to their mean (not with --form, --degree, --axis, "
@@ -55,12 +65,15 @@ def run(args) -> int:
         raise UsageError(f"--unfiltered applies no operator: drop {', '.join(given)} (or "
                          f"--unfiltered)")
     operators = operator_settings(args)
+    if args.unfiltered and args.l_kind != "gaussian":
+        raise UsageError(f"--{args.l_kind} chooses the L-filter; --unfiltered applies none")
     check_outputs(("--json", args.json, "json"), inputs=(args.file,), force=args.force)
     heights = read_input(args, args.kind)
     if not args.unfiltered:
         check_cutoffs(operators, heights.z.shape, heights.spacing)
-    report = filtered_parameters(heights.z, heights.spacing, **operators,
-                                 filtered=not args.unfiltered)
+    z = remove_spurious(args, heights, operators["form"])
+    report = filtered_parameters(z, heights.spacing, **operators,
+                                 filtered=not args.unfiltered, l_kind=args.l_kind)
     shape = " x ".join(map(str, heights.z.shape))
     spacing = ", ".join(f"{d:g}" for d in heights.spacing)
     print(f"{report.standard} of {args.file}")

@@ -46,7 +46,7 @@ from roughgp.metrology.levelling import level
 from roughgp.metrology.texture import mean_width
 
 __all__ = ["ALPHA", "PROFILE_CUTOFFS", "PREFERRED_NESTING_INDICES", "gaussian_kernel",
-           "gaussian_filter", "s_filter", "l_filter", "transmission", "Cutoffs",
+           "check_cutoff", "gaussian_filter", "s_filter", "l_filter", "transmission", "Cutoffs",
            "default_cutoffs", "Texture", "surface_texture"]
 
 #: alpha of ISO 16610-21: the Gaussian's 50 % transmission at the cut-off.
@@ -62,7 +62,8 @@ PROFILE_CUTOFFS = ((80.0, 2.5, 0.02, 40.0), (250.0, 2.5, 0.1, 130.0),
 PREFERRED_NESTING_INDICES = tuple(m * 10.0 ** k for k in range(-1, 5) for m in (0.8, 2.5, 8.0))
 
 
-def _check_cutoff(name, cutoff, spacing):
+def check_cutoff(name, cutoff, spacing):
+    """``cutoff`` as a float, or a ``ValueError`` naming ``name`` unless it is >= 2 spacings."""
     check_positive(name, cutoff)
     cutoff = float(cutoff)
     if cutoff < 2.0 * float(np.max(spacing)):
@@ -102,7 +103,7 @@ def gaussian_filter(z, spacing, cutoff, *, edge="normalised", truncate=1.0):
     """
     arr = height_map(z)
     _, sp = normalize(arr.shape, spacing)
-    cutoff = _check_cutoff("cutoff", cutoff, sp)
+    cutoff = check_cutoff("cutoff", cutoff, sp)
     check_positive("truncate", truncate)
     if truncate < 0.5:
         raise ValueError(f"truncate must be >= 0.5 cut-offs (allowed range: [0.5, inf)), "
@@ -254,7 +255,7 @@ class Texture:
 
 
 def surface_texture(z, spacing=1.0, *, form="plane", s="auto", l="auto", degree=2,
-                    axis="auto", edge="normalised"):
+                    axis="auto", edge="normalised", mean_line=None, mean_line_label="Gaussian"):
     """F-operator, S-filter and L-filter in one call.
 
     The form (``"plane"``, ``"polynomial"`` of ``degree``, ``"cylinder"`` along ``axis``, or
@@ -262,6 +263,10 @@ def surface_texture(z, spacing=1.0, *, form="plane", s="auto", l="auto", degree=
     index ``s``) and the L-filter (``l``) act on the residual -- for a linear filter the
     same as S before F in the interior, without the border bias of smoothing a tilted or
     curved form. ``s`` / ``l``: a length, ``"auto"`` (:func:`default_cutoffs`) or None (off).
+    ``mean_line``: the L-filter's long-wavelength part, a function ``(z, spacing, cutoff)``
+    (default: :func:`gaussian_filter`; the robust regression filter of
+    :mod:`roughgp.metrology.robust_filters` or ISO 13565-1's of
+    :mod:`roughgp.metrology.stratified`), named ``mean_line_label`` in the operators.
     """
     arr = height_map(z)
     _, sp = normalize(arr.shape, spacing)
@@ -269,9 +274,9 @@ def surface_texture(z, spacing=1.0, *, form="plane", s="auto", l="auto", degree=
     s_cut = auto.s if isinstance(s, str) and s == "auto" else s
     l_cut = auto.l if isinstance(l, str) and l == "auto" else l
     if s_cut is not None:
-        s_cut = _check_cutoff("s", s_cut, sp)
+        s_cut = check_cutoff("s", s_cut, sp)
     if l_cut is not None:
-        l_cut = _check_cutoff("l", l_cut, sp)
+        l_cut = check_cutoff("l", l_cut, sp)
     if s_cut is not None and l_cut is not None and s_cut >= l_cut:
         raise ValueError(f"s must be smaller than l, got s={s_cut:g}, l={l_cut:g}")
     residual, fit = remove_form(arr, sp, form, degree=degree, axis=axis)
@@ -282,8 +287,9 @@ def surface_texture(z, spacing=1.0, *, form="plane", s="auto", l="auto", degree=
         sf = gaussian_filter(residual, sp, s_cut, edge=edge)
         operators.append(f"S: Gaussian {_fmt(s_cut)}")
     if l_cut is not None:
-        waviness = gaussian_filter(sf, sp, l_cut, edge=edge)
-        operators.append(f"L: Gaussian {_fmt(l_cut)}")
+        waviness = (gaussian_filter(sf, sp, l_cut, edge=edge) if mean_line is None
+                    else mean_line(sf, sp, l_cut))
+        operators.append(f"L: {mean_line_label} {_fmt(l_cut)}")
     else:
         waviness = np.where(np.isfinite(sf), 0.0, np.nan)
     reason = auto.reason if auto is not None else "set by the caller"

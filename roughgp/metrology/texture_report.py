@@ -24,8 +24,10 @@ import numpy as np
 from roughgp.common.memory import host_free_bytes
 from roughgp.metrology import texture, texture_heights
 from roughgp.metrology.filters import Texture, surface_texture
+from roughgp.metrology.robust_filters import robust_gaussian_filter
+from roughgp.metrology.stratified import stratified_mean_line
 
-__all__ = ["MAX_TEXTURE_POINTS", "BYTES_PER_POINT", "check_texture_size", "TextureReport",
+__all__ = ["L_FILTERS", "MAX_TEXTURE_POINTS", "BYTES_PER_POINT", "check_texture_size", "TextureReport",
            "filtered_parameters", "point_statistics", "UNITS", "unit_of"]
 
 #: Units of the parameters that are not heights or lengths in µm.
@@ -36,6 +38,16 @@ _AREAL_FROM_PROFILE = {"Ra": "Sa", "Rq": "Sq", "Rp": "Sp", "Rv": "Sv", "Rt": "Sz
                        "Rsk": "Ssk", "Rku": "Sku", "Rk": "Sk", "Rpk": "Spk", "Rvk": "Svk",
                        "Mr1": "Smr1", "Mr2": "Smr2"}
 
+
+#: The L-filters: name -> (the mean line, its label in the operators, a note on it).
+L_FILTERS = {
+    "gaussian": (None, "Gaussian", None),
+    "robust": (robust_gaussian_filter, "robust Gaussian regression (ISO 16610-31 / -71, order 2)",
+               "robust L-filter: the mean line does not follow spikes, pits or deep valleys"),
+    "stratified": (stratified_mean_line, "ISO 13565-1 (valleys suppressed, two Gaussian passes)",
+                   "ISO 13565-1 filter for stratified surfaces: its Sk / Spk / Svk (Rk / Rpk / "
+                   "Rvk) are the standard's; the other parameters are of the same surface"),
+}
 
 #: Largest map whose parameters are computed: 2**24 points (4096 x 4096, about 6 GiB at the peak).
 MAX_TEXTURE_POINTS = 2 ** 24
@@ -98,7 +110,7 @@ def point_statistics(h, areal):
 
 
 def filtered_parameters(z, spacing=1.0, *, form="plane", s="auto", l="auto", degree=2,
-                        axis="auto", filtered=True) -> TextureReport:
+                        axis="auto", filtered=True, l_kind="gaussian") -> TextureReport:
     """ISO parameters of ``z`` (profile ``z[ix]`` or surface ``z[iy, ix]``, µm) after its
     F-operator and S-/L-filters (module docstring).
 
@@ -109,13 +121,21 @@ def filtered_parameters(z, spacing=1.0, *, form="plane", s="auto", l="auto", deg
         s, l: nesting indices in µm, ``"auto"`` (the standard's defaults) or None (off).
         filtered: False: no F-, S- or L-operator at all: the heights referred to their mean
             (the parameters of the primary surface "as measured").
+        l_kind: the L-filter (:data:`L_FILTERS`): ``"gaussian"`` (ISO 16610-21 / -61),
+            ``"robust"`` (ISO 16610-31 / -71) or ``"stratified"`` (ISO 13565-1, for Sk / Rk).
     """
+    if l_kind not in L_FILTERS:
+        raise ValueError(f"l_kind must be one of {', '.join(L_FILTERS)}, got {l_kind!r}")
     z = np.asarray(z, dtype=np.float64)
     check_texture_size(z.shape)
     areal = z.ndim == 2
     notes = []
     if filtered:
-        chain = surface_texture(z, spacing, form=form, s=s, l=l, degree=degree, axis=axis)
+        mean_line, label, note = L_FILTERS[l_kind]
+        chain = surface_texture(z, spacing, form=form, s=s, l=l, degree=degree, axis=axis,
+                                mean_line=mean_line, mean_line_label=label)
+        if note and chain.cutoffs.l is not None:
+            notes.append(note)
         heights, operators = chain.sl, list(chain.operators)
         if chain.cutoffs.reason:
             notes.append(chain.cutoffs.reason)

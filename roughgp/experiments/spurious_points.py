@@ -1,0 +1,253 @@
+r"""Spurious points: the chapter's computations (beyond the paper).
+
+* :func:`feature_profiles`, :func:`stratified_comparison`: the robust filters on the cases of
+  their standards (a spike, a deep valley, a step; a plateau-honed profile with waviness).
+* :func:`benchmark`: eq 18 and plateau-honed surfaces (eq 19-20) with spikes and pits of
+  3-20 sd injected at known points (a share :data:`SHARES` of the points, sign at random):
+  each method of :data:`roughgp.beyond.measured.spurious.METHODS` (and the GP detector
+  without its robust rounds) flags points; its detection rate (injected points flagged) and
+  false-alarm rate (other points flagged), and on the surfaces without injections the share
+  it flags. :func:`detection_targets` judges the issue's targets (GP >= 95 % detection,
+  < 0.1 % false alarms).
+* :func:`real_file_study`: on a real file (:data:`REAL_FILES`) the points the GP flags; a
+  cross-validation of the fill with and without them (measured points that are not flagged
+  hidden in discs, filled by the GP and by linear interpolation, scored there), the
+  self-check's verdict beside it, and the texture parameters before and after.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+
+import numpy as np
+
+from roughgp.beyond.interpolants import interpolate_holes
+from roughgp.beyond.measured.fill import fill_measured_surface
+from roughgp.beyond.measured.self_check import hide_discs, rmse_of
+from roughgp.beyond.measured.spurious import METHODS, detect_spurious, flag_by
+from roughgp.experiments.measured_surfaces import CV_FILES, DATA, centre_crop
+from roughgp.metrology.filters import gaussian_filter
+from roughgp.metrology.measurement import read_measurement
+from roughgp.metrology.robust_filters import robust_gaussian_filter, robust_l_filter
+from roughgp.metrology.stratified import stratified_l_filter
+from roughgp.metrology.texture_heights import material_ratio_parameters
+from roughgp.metrology.texture_report import filtered_parameters
+from roughgp.models import surfaces
+
+__all__ = ["SHARES", "AMPLITUDES", "GROUND", "HONED_STEPS", "KINDS", "REAL_FILES",
+           "TEXTURE_KEYS", "Injected", "inject", "draw_surface", "BenchmarkRow", "benchmark",
+           "detection_targets", "RealFileStudy", "real_file_study", "plateau_honed_profile",
+           "feature_profiles", "stratified_comparison"]
+
+SHARES = (0.0, 0.001, 0.01)  #: shares of the points injected (0: the clean surface)
+AMPLITUDES = (3.0, 20.0)  #: spikes and pits of this many sd (uniform), sign at random
+#: eq 18 (the gap-filling chapter's surface: grooves at 30 degrees) with noise 0.1
+GROUND = surfaces.GrooveParameters(variance=10.0, lengthscales=(40.0, 5.0), angle=math.pi / 6)
+#: figure 3's two honing steps, lambda_a of the first shortened from 500 to 100 (a quick draw)
+HONED_STEPS = (surfaces.GrooveParameters(45.0, (100.0, 30.0), math.pi / 4),
+               surfaces.GrooveParameters(0.2, (5.0, 3.0), math.pi / 4))
+KINDS = ("eq 18", "plateau-honed")
+#: the real files and their F-operators (the measured-surfaces chapter's cross-validated ones)
+REAL_FILES = CV_FILES
+TEXTURE_KEYS = ("Sq", "Sku", "Sp", "Sv", "Sk", "Spk", "Svk")
+
+
+@dataclasses.dataclass(frozen=True)
+class Injected:
+    """A surface with spikes and pits at known points: ``z`` (injected), ``clean``, ``truth``
+    (boolean map of the injected points)."""
+
+    z: np.ndarray
+    clean: np.ndarray
+    truth: np.ndarray
+
+
+def draw_surface(kind, shape, seed) -> np.ndarray:
+    """An eq 18 (``"eq 18"``) or plateau-honed (``"plateau-honed"``, eq 19-20) surface."""
+    if kind == "eq 18":
+        return surfaces.ground(shape, variance=GROUND.variance, lengthscales=GROUND.lengthscales,
+                               angle=GROUND.angle, noise_variance=0.1, seed=seed)
+    if kind == "plateau-honed":
+        return surfaces.honed(shape, HONED_STEPS, noise_variance=0.1, seed=seed)
+    raise ValueError(f"kind must be one of {', '.join(KINDS)}, got {kind!r}")
+
+
+def inject(clean, share, seed) -> Injected:
+    """Add spikes and pits of :data:`AMPLITUDES` sd (the surface's sd) at ``share`` of the
+    points, drawn with ``seed``."""
+    rng = np.random.default_rng(seed)
+    n = int(round(share * clean.size))
+    where = rng.choice(clean.size, n, replace=False)
+    size = rng.uniform(*AMPLITUDES, n) * float(np.std(clean)) * rng.choice([-1.0, 1.0], n)
+    z = clean.copy()
+    z.flat[where] += size
+    truth = np.zeros(clean.shape, bool)
+    truth.flat[where] = True
+    return Injected(z, clean, truth)
+
+
+@dataclasses.dataclass(frozen=True)
+class BenchmarkRow:
+    """One surface kind, share and method: ``detection`` (NaN without injections),
+    ``false_alarm`` (the share of the other points flagged), ``injected``, ``seconds``."""
+
+    kind: str
+    share: float
+    method: str
+    detection: float
+    false_alarm: float
+    injected: int
+    seconds: float
+
+
+def benchmark(shape=(96, 96), *, shares=SHARES, kinds=KINDS, seed=0) -> list:
+    """The detection table (module docstring): one :class:`BenchmarkRow` per surface kind,
+    share and method (:data:`METHODS` and ``"GP, one pass"``: no robust rounds)."""
+    rows = []
+    for k, kind in enumerate(kinds):
+        clean = draw_surface(kind, shape, seed + k)
+        for share in shares:
+            case = inject(clean, share, seed + 100 + k)
+            others = ~case.truth
+            for method in (*METHODS, "GP, one pass"):
+                start = time.perf_counter()
+                if method == "GP, one pass":
+                    flagged = detect_spurious(case.z, seed=seed, rounds=1).flagged
+                else:
+                    flagged = flag_by(method, case.z, seed=seed)
+                n = int(case.truth.sum())
+                rows.append(BenchmarkRow(
+                    kind, share, method,
+                    float((flagged & case.truth).sum() / n) if n else math.nan,
+                    float((flagged & others).sum() / others.sum()), n,
+                    time.perf_counter() - start))
+    return rows
+
+
+def detection_targets(rows, detection=0.95, false_alarm=0.001) -> dict:
+    """The issue's targets for the GP detector: statement -> bool."""
+    gp = [r for r in rows if r.method == "GP"]
+    return {
+        f"the GP finds at least {detection:.0%} of the injected points on every surface":
+            all(r.detection >= detection for r in gp if r.injected),
+        f"the GP flags under {false_alarm:.1%} of the other points on every surface":
+            all(r.false_alarm < false_alarm for r in gp),
+    }
+
+
+@dataclasses.dataclass(frozen=True)
+class RealFileStudy:
+    """:func:`real_file_study` on one file.
+
+    Attributes:
+        file, shape: the file and the (cropped) map's shape.
+        flagged: the points the GP flagged; summary: how many, where.
+        hidden: the measured, unflagged points hidden for the cross-validation.
+        rmse: ``{"without flagging": {"GP", "linear"}, "with flagging": {...}}`` at them.
+        band_coverage: the share of them within the GP's calibrated 95 % band (with flagging).
+        self_check_gp_wins: the self-check's verdict (with flagging): GP better than linear.
+        texture: ``{"before": params, "after": params}`` (:data:`TEXTURE_KEYS`).
+        seconds: ``{"detection", "fills"}``.
+    """
+
+    file: str
+    shape: tuple
+    flagged: np.ndarray
+    summary: str
+    hidden: np.ndarray
+    rmse: dict
+    band_coverage: float
+    self_check_gp_wins: bool
+    texture: dict
+    seconds: dict
+
+    @property
+    def cv_gp_wins(self) -> bool:
+        """The cross-validation's verdict (with flagging): the GP beats linear."""
+        r = self.rmse["with flagging"]
+        return r["GP"] < r["linear"]
+
+
+def real_file_study(name, *, crop=None, share=0.02, seed=0) -> RealFileStudy:
+    """The real file ``data/name`` (its F-operator from :data:`REAL_FILES`; ``crop``: the side
+    of a central crop, None: the whole map) through detection, fill and texture (module
+    docstring)."""
+    form = REAL_FILES[name]
+    m = read_measurement(DATA / name)
+    z = m.z if crop is None else m.z[centre_crop(name, crop)]
+    start = time.perf_counter()
+    detected = detect_spurious(z, spacing=m.spacing, form=form, seed=seed)
+    detection_seconds = time.perf_counter() - start
+    flagged = detected.flagged
+    hidden = hide_discs(np.isfinite(z) & ~flagged, share, seed=seed)
+    truth = z[hidden]
+    rmse, start = {}, time.perf_counter()
+    for label, excluded in (("without flagging", None), ("with flagging", flagged)):
+        mask = hidden if excluded is None else hidden | excluded
+        gp = fill_measured_surface(z, spacing=m.spacing, form=form, seed=seed, mask=mask,
+                                   self_check=True)
+        source = z if excluded is None else np.where(excluded, np.nan, z)
+        linear = interpolate_holes(source, hidden, methods=("linear",))["linear"]
+        rmse[label] = rmse_of({"GP": gp.filled[hidden], "linear": linear}, truth)
+    inside = np.abs(gp.filled[hidden] - truth) <= gp.band[hidden]
+    check = gp.self_check.rmse
+    texture = {}
+    for label, heights in (("before", z), ("after", np.where(flagged, np.nan, z))):
+        p = filtered_parameters(heights, m.spacing, form=form).parameters
+        texture[label] = {k: float(p[k]) for k in TEXTURE_KEYS}
+    return RealFileStudy(name, z.shape, flagged, detected.summary(), hidden, rmse,
+                         float(np.mean(inside)), bool(check["GP"] < check["linear"]), texture,
+                         {"detection": detection_seconds,
+                          "fills": time.perf_counter() - start})
+
+
+# --------------------------------------------------------------------------- the filters' cases
+
+def plateau_honed_profile(n=8000, seed=1):
+    """A plateau-honed profile with known truth (spacing 1 um): a plateau of fine roughness
+    (sd 0.2 um) cut by 40 parabolic valleys 10-40 um wide and 3-8 um deep, and a waviness of
+    3 um at 4 mm. Returns ``(truth, plateau, waviness)``: the roughness, the boolean map of the
+    plateau points, the waviness (the measured profile is ``truth + waviness``)."""
+    rng = np.random.default_rng(seed)
+    x = np.arange(n, dtype=np.float64)
+    valleys = np.zeros(n)
+    for c in rng.choice(n, 40, replace=False):
+        width, depth = rng.uniform(10, 40), rng.uniform(3, 8)
+        valleys = np.minimum(valleys, -depth * np.clip(1 - ((x - c) / width) ** 2, 0, None))
+    return 0.2 * rng.normal(size=n) + valleys, valleys == 0, 3 * np.sin(2 * np.pi * x / 4000)
+
+
+def feature_profiles(n=4000, cutoff=400.0, seed=3) -> dict:
+    """The standard's cases on a profile of fine roughness (sd 0.1 um, spacing 1 um): a spike
+    (50 um), a deep narrow valley (20 um, 10 points) and a step (10 um). ``{case: (z, the
+    Gaussian mean line, the robust one)}``."""
+    rng = np.random.default_rng(seed)
+    x = np.arange(n, dtype=np.float64)
+    noise = 0.1 * rng.normal(size=n)
+    spike = noise.copy()
+    spike[n // 2] = 50.0
+    valley = noise.copy()
+    valley[n // 2:n // 2 + 10] = -20.0
+    step = noise + np.where(x < n // 2, 0.0, 10.0)
+    return {name: (z, gaussian_filter(z, 1.0, cutoff), robust_gaussian_filter(z, 1.0, cutoff))
+            for name, z in (("spike", spike), ("deep valley", valley), ("step", step))}
+
+
+def stratified_comparison(cutoff=800.0, seed=1) -> dict:
+    """Rk, Rpk, Rvk of :func:`plateau_honed_profile` after the Gaussian, the ISO 13565-1 and
+    the robust L-filter, beside those of the true roughness (half a cut-off dropped at each
+    end): ``{filter: {"Rk", "Rpk", "Rvk", "plateau": median roughness on the plateau}}``."""
+    truth, plateau, waviness = plateau_honed_profile(seed=seed)
+    z = truth + waviness
+    inner = slice(int(cutoff), -int(cutoff))
+    out = {}
+    for name, rough in (("true roughness", truth),
+                        ("Gaussian", z - gaussian_filter(z, 1.0, cutoff)),
+                        ("ISO 13565-1", stratified_l_filter(z, 1.0, cutoff)),
+                        ("robust", robust_l_filter(z, 1.0, cutoff))):
+        p = material_ratio_parameters(rough[inner])
+        out[name] = {k: float(p[k]) for k in ("Rk", "Rpk", "Rvk")}
+        out[name]["plateau"] = float(np.median(rough[inner][plateau[inner]]))
+    return out
