@@ -10,10 +10,43 @@ from importlib.resources import files
 import matplotlib.pyplot as plt
 import numpy as np
 
-__all__ = ["use_style", "STYLE", "row_of_axes", "image", "compare_curves", "acvf_figure", "surface_figure"]
+__all__ = ["use_style", "STYLE", "PAGE_WIDTH_PX", "MIN_FONT_PT", "font_sizes_on_page", "row_of_axes",
+           "image", "compare_curves", "acvf_figure", "surface_figure"]
 
 STYLE = str(files("roughgp.common") / "roughgp.mplstyle")
 """Path of the book's matplotlib style file."""
+
+
+PAGE_WIDTH_PX = 720
+"""Width of the book's text column in CSS pixels (sphinx-book-theme in a 1280 px window): an
+image wider than this is shrunk to it, so a wide figure's text is shrunk with it."""
+
+MIN_FONT_PT = 9.0
+"""The smallest text size on the page (CSS points) that the book's figures allow."""
+
+
+def font_sizes_on_page(fig, page_width_px=PAGE_WIDTH_PX):
+    """The sizes (CSS points, 1 pt = 4/3 px) at which the tick labels, axis labels and titles of
+    ``fig`` appear on the book's page: the notebook shows a figure at ``fig.dpi`` pixels per
+    inch, shrunk to the text column when wider (``page_width_px``). Returns
+    ``{"ticks": smallest, "labels": smallest, "titles": smallest}`` over the visible axes."""
+    width_px = fig.get_figwidth() * fig.dpi
+    shrink = min(1.0, page_width_px / width_px)
+    to_page = fig.dpi / 72.0 * shrink * 0.75          # figure points -> CSS points on the page
+    sizes = {"ticks": [], "labels": [], "titles": []}
+    fig.canvas.draw()
+    for ax in fig.axes:
+        if not ax.get_visible():
+            continue
+        for label in ax.get_xticklabels() + ax.get_yticklabels():
+            if label.get_visible() and label.get_text():
+                sizes["ticks"].append(label.get_fontsize())
+        for text in (ax.xaxis.label, ax.yaxis.label):
+            if text.get_text():
+                sizes["labels"].append(text.get_fontsize())
+        if ax.title.get_text():
+            sizes["titles"].append(ax.title.get_fontsize())
+    return {kind: min(values) * to_page if values else None for kind, values in sizes.items()}
 
 
 def use_style():
