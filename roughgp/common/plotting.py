@@ -54,7 +54,7 @@ def use_style():
     plt.style.use(STYLE)
 
 
-def row_of_axes(ncols=1, width=5.0, height=3.4):
+def row_of_axes(ncols=1, width=4.5, height=3.4):
     """A new figure with ``ncols`` axes in a row, each ``width`` x ``height`` inches:
     ``(figure, axes)``."""
     fig, axes = plt.subplots(1, ncols, figsize=(width * ncols, height), squeeze=False)
@@ -103,7 +103,7 @@ def acvf_figure(kernel, half_width, *, n=201, angle=None, level=None, height_uni
 
     lags = centred_lags((n, n), 2 * half_width / (n - 1))
     r = kernel.acvf(lags)
-    fig = plt.figure(figsize=(9.5, 3.8))
+    fig = plt.figure(figsize=(9, 3.8))
     ax3d = fig.add_subplot(1, 2, 1, projection="3d")
     stride = max(1, n // 200)  # fine enough for a thin ridge (figure 2: 5 wide in 400)
     ax3d.plot_surface(lags[..., 0], lags[..., 1], r, cmap="viridis", rstride=stride,
@@ -132,7 +132,7 @@ def surface_figure(z, spacing=1.0, *, height_unit="height unit", length_unit="gr
     dy, dx = np.broadcast_to(np.asarray(spacing, dtype=np.float64), (2,))
     step = max(1, int(np.ceil(max(ny, nx) / max_points_3d)))
     y, x = np.mgrid[0:ny:step, 0:nx:step]
-    fig = plt.figure(figsize=(10, 4.2))
+    fig = plt.figure(figsize=(9, 4.0))
     ax3d = fig.add_subplot(1, 2, 1, projection="3d")
     ax3d.plot_surface(x * dx, y * dy, z[::step, ::step], cmap="viridis", linewidth=0,
                       antialiased=False, rcount=z[::step, ::step].shape[0],

@@ -56,3 +56,20 @@ def test_the_model_check_grid_is_readable():
     assert any("µm" in ax.get_title() for ax in fig.axes) and not any(
         "(um)" in ax.get_title() for ax in fig.axes)
     plt.close("all")
+
+
+def test_the_chapters_figure_helpers_are_readable():
+    """plotting's own figures (figure 1's ACVF, a surface in 3-D and from above, a row of axes)
+    keep their text >= 9 pt on the page."""
+    plotting.use_style()
+    from roughgp.gp import kernels
+
+    kernel = kernels.RotatedExponentialKernel(variance=1.0, lengthscales=(0.5, 0.1), angle=0.5)
+    figures = [plotting.acvf_figure(kernel, half_width=1.0, n=41)[0],
+               plotting.surface_figure(np.random.default_rng(0).normal(size=(40, 40)))[0],
+               plotting.row_of_axes(2)[0]]
+    figures[2].axes[0].set(xlabel="lag", ylabel="r", title="t")
+    for fig in figures:
+        sizes = plotting.font_sizes_on_page(fig)
+        assert min(v for v in sizes.values() if v is not None) >= plotting.MIN_FONT_PT, sizes
+    plt.close("all")
