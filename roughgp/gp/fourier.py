@@ -27,7 +27,7 @@ from roughgp.common.grid import centred_frequencies, centred_lags, normalize
 __all__ = ["lag_grid", "frequency_grid", "acvf_to_psd", "psd_to_acvf", "duality_errors"]
 
 lag_grid = centred_lags
-"""Centred lags of shape (*shape, D): see :func:`roughgp.common.grid.centred_lags`."""
+"""Centred lags of shape ``(*shape, D)``: see :func:`roughgp.common.grid.centred_lags`."""
 
 frequency_grid = centred_frequencies
 """Centred frequencies matching :func:`lag_grid`: see :func:`roughgp.common.grid.centred_frequencies`."""

@@ -287,7 +287,7 @@ def embed(acvf, shape, spacing=1.0, *, tolerance=1e-10, approximate=False,
 
 def draw(embedding: Embedding, n_samples: int, rng: np.random.Generator, dtype=np.float64,
          device=None):
-    """``n_samples`` draws from an embedding, two per complex FFT; shape (n, *grid_shape).
+    """``n_samples`` draws from an embedding, two per complex FFT; shape ``(n, *grid_shape)``.
 
     ``dtype=np.float32`` runs the FFTs in single precision (complex64), halving memory.
     ``device`` (a ``torch.device``, see :mod:`roughgp.common.device`) runs the FFTs there with noise

@@ -29,7 +29,7 @@ def edition(tmp_path_factory):
 
 
 def test_every_lab_has_gated_solutions():
-    assert len(LABS) >= 6
+    assert len(LABS) >= 8
     for path in LABS:
         nb = nbformat.read(path, as_version=4)
         assert _solution_code(nb), f"{path.name}: no solution-start/solution-end code"
