@@ -72,9 +72,9 @@ def duality_errors(acvf, psd, shape, spacing=1.0, band=None):
     Evaluates ``acvf`` on :func:`lag_grid` and ``psd`` on :func:`frequency_grid` (both
     functions of points of shape (..., D)), transforms each into the other, and returns:
 
-    * ``"forward"``: max |FFT(ACVF) - PSD| over frequencies with |f| <= ``band`` (all if
+    * ``"forward"``: ``max |FFT(ACVF) - PSD|`` over frequencies with ``|f| <= band`` (all if
       ``None``), relative to the PSD's largest value -- the aliasing error;
-    * ``"inverse"``: max |IFFT(PSD) - ACVF| over all lags, relative to ACVF(0);
+    * ``"inverse"``: ``max |IFFT(PSD) - ACVF|`` over all lags, relative to ACVF(0);
     * ``"lag0_deficit"``: (ACVF(0) - IFFT(PSD)(0)) / ACVF(0), the share of the variance in
       PSD mass beyond the grid's Nyquist frequency -- the truncation error.
     """

@@ -358,7 +358,7 @@ def _draw_on_device(embedding, n_samples, rng, dtype, device):
 def compare_truncations(acvf, shape, spacing, torus_shape):
     """For a smooth embedding on ``torus_shape``: the torus that the plain wrap is predicted to
     need (at least; its eigenvalue check may grow it further), both sizes over the grid's, and
-    max |c - r| / r(0) over the grid's lags (0: R of eq 10 is unchanged)."""
+    ``max |c - r| / r(0)`` over the grid's lags (0: R of eq 10 is unchanged)."""
     shape, spacing = normalize(shape, spacing)
     spacing = tuple(float(d) for d in spacing)
     plain = predict_torus(acvf, shape, spacing, truncation="none")
