@@ -194,12 +194,11 @@ def build_student_book(out: Path = OUT / "book", book: Path = BOOK) -> Path:
                            f"{(done.stdout + done.stderr)[-4000:]}")
     build = Path(out) / "_build"
     html = build / "html"
-    for source in sorted(Path(book).rglob("*.ipynb")):
-        if "_build" in source.relative_to(book).parts:
-            continue
-        relative = source.relative_to(book)
-        served = html / "_sources" / relative
-        if served.exists() and "solution-start" in source.read_text():
+    # the served copies, mapped back to their sources (book/labs is a link: rglob of the book
+    # would not enter it)
+    for served in sorted((html / "_sources").rglob("*.ipynb")):
+        source = Path(book) / served.relative_to(html / "_sources")
+        if source.is_file() and "solution-start" in source.read_text():
             nbformat.write(student_notebook(nbformat.read(source, as_version=4)), served)
     for folder in ("jupyter_execute", ".doctrees"):
         shutil.rmtree(build / folder, ignore_errors=True)
@@ -250,12 +249,27 @@ def _texts(path: Path, name: str):
     yield name, " ".join(text.split())
 
 
-def solution_code_left(folder: Path, labs: Path = LABS) -> list[str]:
+def _public_text(book: Path, labs: Path) -> str:
+    """The text of the book's pages outside the labs (chapters, landing page, running page):
+    what is shown to every reader anyway, whitespace collapsed."""
+    labs = Path(labs).resolve()
+    texts = []
+    for path in sorted(Path(book).glob("*.md")) + sorted(Path(book).glob("*.ipynb")):
+        if path.resolve().parent != labs:
+            texts.append(path.read_text(errors="replace"))
+    return " ".join(" ".join(texts).split())
+
+
+def solution_code_left(folder: Path, labs: Path = LABS, book: Path | None = BOOK) -> list[str]:
     """Every file under ``folder`` (a student build: pages, ``_sources``, search index,
     notebooks, zip members) that holds a line of a lab's solution code (:func:`solution_lines`
-    of each ``labs/lab*.ipynb``), as ``"file: line"``; empty when nothing leaked."""
+    of each ``labs/lab*.ipynb``), as ``"file: line"``; empty when nothing leaked. A solution
+    line that a page of ``book`` outside the labs shows too (a library call the landing page
+    teaches) is public, not a leak."""
+    public = _public_text(book, labs) if book is not None else ""
     lines = sorted({line for path in sorted(Path(labs).glob("*.ipynb"))
-                    for line in solution_lines(nbformat.read(path, as_version=4))[0]})
+                    for line in solution_lines(nbformat.read(path, as_version=4))[0]
+                    if line not in public})
     found = []
     for path in sorted(Path(folder).rglob("*")):
         if not path.is_file():

@@ -134,14 +134,19 @@ def _tiny_lab():
 
 
 def _tiny_book(root):
+    """A page with a written solution, and a lab in ``../notebooks`` that the book reaches
+    through the link ``labs`` (as the real book does)."""
     root.mkdir()
-    nbformat.write(_tiny_lab(), root / "lab8.ipynb")
+    notebooks = root.parent / "notebooks"
+    notebooks.mkdir()
+    nbformat.write(_tiny_lab(), notebooks / "lab8.ipynb")
+    (root / "labs").symlink_to(notebooks, target_is_directory=True)
     (root / "_config.yml").write_text(
         "title: tiny\nonly_build_toc_files: true\nexecute:\n  execute_notebooks: 'off'\n"
         "parse:\n  myst_enable_extensions: [colon_fence]\n"
         "sphinx:\n  extra_extensions: [sphinx_exercise]\n"
         f"  local_extensions:\n    student: {student.ROOT / 'booktools'}\n")
-    (root / "_toc.yml").write_text("format: jb-book\nroot: lab\nchapters:\n  - file: lab8\n")
+    (root / "_toc.yml").write_text("format: jb-book\nroot: lab\nchapters:\n  - file: labs/lab8\n")
     (root / "lab.md").write_text(_PAGE)
     return root
 
@@ -164,7 +169,7 @@ def test_the_student_book_hides_every_solution_the_reference_book_shows(tmp_path
                    capture_output=True)
     shown = reference / "_build" / "html"
     assert "FORTY-TWO-SOLUTION" in (shown / "lab.html").read_text()
-    assert student.solutions_left(shown) == ["lab.html", "lab8.html"]
+    assert student.solutions_left(shown) == ["lab.html", "labs/lab8.html"]
 
 
 def test_no_file_of_the_student_build_holds_solution_code(tmp_path):
@@ -173,15 +178,16 @@ def test_no_file_of_the_student_build_holds_solution_code(tmp_path):
     it in the reference build, in the page, its _sources and the executed notebook."""
     book = _tiny_book(tmp_path / "book")
     out = tmp_path / "student"
-    student.write_student_edition(book, out)
+    labs = tmp_path / "notebooks"
+    student.write_student_edition(labs, out)
     html = student.build_student_book(out / "book", book)
-    assert student.solution_code_left(out, labs=book) == []
+    assert student.solution_code_left(out, labs=labs, book=book) == []
     assert sorted(p.name for p in out.rglob("*.ipynb")) == ["lab8.ipynb", "lab8.ipynb"]
-    page = (html / "lab8.html").read_text()
+    page = (html / "labs" / "lab8.html").read_text()
     assert "GIVEN-OUTPUT" in page and "Compute" in page
     for hidden in ("SOLUTION-OUTPUT", "SELF-CHECK-OUTPUT-42", "REFERENCE-ONLY-NOTE"):
         assert hidden not in page
-    served = nbformat.read(html / "_sources" / "lab8.ipynb", as_version=4)
+    served = nbformat.read(html / "_sources" / "labs" / "lab8.ipynb", as_version=4)
     assert "raise NotImplementedError" in served.cells[-2].source
     assert not (out / "book" / "_build" / "jupyter_execute").exists()
     # the reference build of the same book: the search finds the solution in each place
@@ -191,9 +197,9 @@ def test_no_file_of_the_student_build_holds_solution_code(tmp_path):
     subprocess.run([str(Path(sys.executable).with_name("jupyter-book")), "build",
                     "--path-output", str(reference), str(book)], check=True,
                    capture_output=True)
-    leaks = student.solution_code_left(reference, labs=book)
+    leaks = student.solution_code_left(reference, labs=labs, book=book)
     where = {leak.split(":")[0] for leak in leaks}
-    assert {"_build/html/lab8.html", "_build/html/_sources/lab8.ipynb"} <= where, leaks
+    assert {"_build/html/labs/lab8.html", "_build/html/_sources/labs/lab8.ipynb"} <= where, leaks
     assert "answer_value = GIVEN_NUMBER * 7 # the solution" in leaks[0]
-    shown = (reference / "_build" / "html" / "lab8.html").read_text()
+    shown = (reference / "_build" / "html" / "labs" / "lab8.html").read_text()
     assert "SELF-CHECK-OUTPUT-42" in shown and "REFERENCE-ONLY-NOTE" in shown
