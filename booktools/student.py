@@ -223,7 +223,7 @@ def solution_lines(nb) -> tuple[list[str], list[str]]:
             inside_lines.extend(line for line in lines if len(line) >= MIN_LINE)
         elif not inside:
             outside_lines.extend(lines)
-    outside = "\n".join(outside_lines)
+    outside = " ".join(outside_lines)   # a task's text may break a call across its lines
     return [line for line in inside_lines if line not in outside], outside_lines
 
 
@@ -255,7 +255,11 @@ def _public_text(book: Path, labs: Path) -> str:
     labs = Path(labs).resolve()
     texts = []
     for path in sorted(Path(book).glob("*.md")) + sorted(Path(book).glob("*.ipynb")):
-        if path.resolve().parent != labs:
+        if path.resolve().parent == labs:
+            continue
+        if path.suffix == ".ipynb":
+            texts.extend(c.source for c in nbformat.read(path, as_version=4).cells)
+        else:
             texts.append(path.read_text(errors="replace"))
     return " ".join(" ".join(texts).split())
 
