@@ -13,13 +13,22 @@ given code, the self-checks) and puts in place of each solution
 * for a written answer, an empty "Your answer" cell.
 
 The MyST directives become plain Markdown (the notebooks are opened in Jupyter, not in Sphinx),
-outputs are cleared, and the notebooks are also packed into one zip for handing out.
+outputs are cleared, a note meant for the reference edition only (a Markdown cell holding an
+admonition with ``:class: reference-edition``) is dropped, and the notebooks are also packed into
+one zip for handing out.
 
 The student *book* (:func:`build_student_book`) is the whole book built with the Sphinx option
 ``roughgp_student_book`` of this module's extension (:func:`setup`, loaded by the book's
 ``_config.yml``): after sphinx-exercise has merged each gated solution into one solution node, the
 extension removes those nodes, so the chapters and the labs' tasks are as in the book and every
-solution (code and written answers) is left out. (sphinx-exercise's own ``hide_solutions`` drops
+solution (code and written answers) is left out; on a page that had a solution it also removes
+the outputs of every code cell after the first one (the self-checks' outputs are the reference
+run's numbers, and a figure drawn after a solution shows its result), and it removes the notes
+with the class ``reference-edition``. After the build the page sources that the download button
+serves (``_sources/**/*.ipynb``) are replaced by the student notebooks, and the executed
+notebooks (``jupyter_execute``) and pickled doctrees are deleted; :func:`solution_code_left`
+then looks in every file of the student build (pages, sources, search index, notebooks, zip) for
+a line of solution code. (sphinx-exercise's own ``hide_solutions`` drops
 only the opening directive of a gated solution: its content stays on the page, and the closing
 node stops the HTML writer; sphinx-exercise 1.2.1.) It takes the executed notebooks from the
 book's cache, so after ``make book`` (or ``make test``) it only renders; :func:`solutions_left`
@@ -29,7 +38,11 @@ checks its pages.
 from __future__ import annotations
 
 import argparse
+import html as html_module
+import io
+import json
 import re
+import shutil
 import subprocess
 import sys
 import zipfile
@@ -47,9 +60,16 @@ _END = re.compile(r"^:::\{solution-end\}", re.M)
 _TASK = re.compile(r"^## Task (\d+): (.*)$", re.M)
 _LABEL = re.compile(r":label:\s*(\S+)")
 _SOLUTION_HTML = re.compile(r'class="[^"]*\bsolution\b[^"]*\badmonition\b')
+_TAG = re.compile(r"<[^>]+>")
+# A note of the reference edition only ("the solutions are collapsed under each task ..."): an
+# admonition with this class; the student notebooks and the student book leave it out.
+REFERENCE_ONLY = "reference-edition"
+# A solution line shorter than this (``z = f(x)``) is too generic to count as a leak.
+MIN_LINE = 13
 
-__all__ = ["student_notebook", "write_student_edition", "student_book_config",
-           "build_student_book", "solutions_left", "setup", "main"]
+__all__ = ["REFERENCE_ONLY", "student_notebook", "write_student_edition", "student_book_config",
+           "build_student_book", "solutions_left", "solution_lines", "solution_code_left",
+           "setup", "main"]
 
 
 def _plain_exercise(source: str) -> str:
@@ -58,6 +78,10 @@ def _plain_exercise(source: str) -> str:
              if not re.match(r"^:::(\{exercise\}.*)?\s*$", line)
              and not line.startswith((":label:", ":nonumber:"))]
     return re.sub(r"\n{3,}", "\n\n", "\n".join(lines)).strip()
+
+
+def _is_reference_note(source: str) -> bool:
+    return re.search(rf"^:class:.*\b{REFERENCE_ONLY}\b", source, re.M) is not None
 
 
 def _tasks(nb) -> dict[str, str]:
@@ -98,6 +122,8 @@ def student_notebook(nb):
             elif cell.cell_type == "markdown" and "answer" not in blanked:
                 blanked.add("answer")
                 cells.append(nbformat.v4.new_markdown_cell(f"**Your answer ({task}).** ..."))
+            continue
+        if cell.cell_type == "markdown" and _is_reference_note(cell.source):
             continue
         new = nbformat.from_dict(dict(cell))
         if new.cell_type == "markdown" and "{exercise}" in new.source:
@@ -153,7 +179,12 @@ def student_book_config(out: Path, book: Path = BOOK, cache: Path | None = None)
 
 def build_student_book(out: Path = OUT / "book", book: Path = BOOK) -> Path:
     """Build the book without the labs' solutions into ``out``; returns the HTML folder.
-    Raises ``RuntimeError`` with the build's last output when the build fails."""
+    Raises ``RuntimeError`` with the build's last output when the build fails.
+
+    After the build, each page source that holds solutions (``_sources/<page>.ipynb``, what the
+    page's download button serves) is replaced by its student notebook, and the build's
+    executed notebooks (``jupyter_execute``, the reference runs) and pickled doctrees are
+    deleted: the student build keeps only what is handed out."""
     config = student_book_config(Path(out), book)
     command = [str(Path(sys.executable).with_name("jupyter-book")), "build", "-W", "-n",
                "--keep-going", "--path-output", str(out), "--config", str(config), str(book)]
@@ -161,7 +192,95 @@ def build_student_book(out: Path = OUT / "book", book: Path = BOOK) -> Path:
     if done.returncode != 0:
         raise RuntimeError(f"the student book did not build ({done.returncode}):\n"
                            f"{(done.stdout + done.stderr)[-4000:]}")
-    return Path(out) / "_build" / "html"
+    build = Path(out) / "_build"
+    html = build / "html"
+    # the served copies, mapped back to their sources (book/labs is a link: rglob of the book
+    # would not enter it)
+    for served in sorted((html / "_sources").rglob("*.ipynb")):
+        source = Path(book) / served.relative_to(html / "_sources")
+        if source.is_file() and "solution-start" in source.read_text():
+            nbformat.write(student_notebook(nbformat.read(source, as_version=4)), served)
+    for folder in ("jupyter_execute", ".doctrees"):
+        shutil.rmtree(build / folder, ignore_errors=True)
+    return html
+
+
+def solution_lines(nb) -> tuple[list[str], list[str]]:
+    """The code lines inside the reference solutions of the lab ``nb`` that no other cell
+    holds (stripped, whitespace collapsed, at least :data:`MIN_LINE` characters): what must not
+    appear in the student edition. Also returns the text outside the solutions, line by line
+    (the given code, the self-checks, the tasks' text), which may appear."""
+    inside_lines, outside_lines, inside = [], [], False
+    for cell in nb.cells:
+        if cell.cell_type == "markdown" and _START.search(cell.source):
+            inside = True
+            continue
+        if cell.cell_type == "markdown" and _END.search(cell.source):
+            inside = False
+            continue
+        lines = [" ".join(line.split()) for line in cell.source.splitlines()]
+        if inside and cell.cell_type == "code":
+            inside_lines.extend(line for line in lines if len(line) >= MIN_LINE)
+        elif not inside:
+            outside_lines.extend(lines)
+    outside = " ".join(outside_lines)   # a task's text may break a call across its lines
+    return [line for line in inside_lines if line not in outside], outside_lines
+
+
+def _texts(path: Path, name: str):
+    """(name, text) of a file of a build: HTML without its tags (highlighted code is split into
+    spans), a notebook's cells and outputs, each member of a zip; whitespace collapsed."""
+    data = path.read_bytes() if isinstance(path, Path) else path
+    if name.endswith(".zip"):
+        with zipfile.ZipFile(io.BytesIO(data)) as archive:
+            for member in archive.namelist():
+                yield from _texts(archive.read(member), f"{name}/{member}")
+        return
+    text = data.decode("utf-8", errors="replace")
+    if name.endswith((".html", ".htm")):
+        text = html_module.unescape(_TAG.sub("", text))
+    elif name.endswith(".ipynb"):
+        try:
+            nb = nbformat.reads(text, as_version=4)
+            text = "\n".join([c.source for c in nb.cells] + [
+                json.dumps(c.get("outputs", []), ensure_ascii=False) for c in nb.cells])
+        except Exception:  # not a notebook after all: look at the raw text
+            pass
+    yield name, " ".join(text.split())
+
+
+def _public_text(book: Path, labs: Path) -> str:
+    """The text of the book's pages outside the labs (chapters, landing page, running page):
+    what is shown to every reader anyway, whitespace collapsed."""
+    labs = Path(labs).resolve()
+    texts = []
+    for path in sorted(Path(book).glob("*.md")) + sorted(Path(book).glob("*.ipynb")):
+        if path.resolve().parent == labs:
+            continue
+        if path.suffix == ".ipynb":
+            texts.extend(c.source for c in nbformat.read(path, as_version=4).cells)
+        else:
+            texts.append(path.read_text(errors="replace"))
+    return " ".join(" ".join(texts).split())
+
+
+def solution_code_left(folder: Path, labs: Path = LABS, book: Path | None = BOOK) -> list[str]:
+    """Every file under ``folder`` (a student build: pages, ``_sources``, search index,
+    notebooks, zip members) that holds a line of a lab's solution code (:func:`solution_lines`
+    of each ``labs/lab*.ipynb``), as ``"file: line"``; empty when nothing leaked. A solution
+    line that a page of ``book`` outside the labs shows too (a library call the landing page
+    teaches) is public, not a leak."""
+    public = _public_text(book, labs) if book is not None else ""
+    lines = sorted({line for path in sorted(Path(labs).glob("*.ipynb"))
+                    for line in solution_lines(nbformat.read(path, as_version=4))[0]
+                    if line not in public})
+    found = []
+    for path in sorted(Path(folder).rglob("*")):
+        if not path.is_file():
+            continue
+        for name, text in _texts(path, str(path.relative_to(folder))):
+            found.extend(f"{name}: {line}" for line in lines if line in text)
+    return found
 
 
 def solutions_left(html: Path) -> list[str]:
@@ -172,8 +291,11 @@ def solutions_left(html: Path) -> list[str]:
 
 
 def setup(app):
-    """Sphinx extension (``sphinx.local_extensions`` of ``book/_config.yml``): with
-    ``roughgp_student_book = True`` every sphinx-exercise solution is removed from the pages."""
+    """Sphinx extension (``sphinx.local_extensions`` of ``book/_config.yml``). With
+    ``roughgp_student_book = True`` every sphinx-exercise solution is removed from the pages,
+    and on a page that had one, the outputs of the code cells after the first solution and the
+    notes of class :data:`REFERENCE_ONLY`."""
+    from docutils import nodes
     from sphinx.transforms import SphinxTransform
 
     class RemoveSolutions(SphinxTransform):
@@ -184,8 +306,20 @@ def setup(app):
                 return
             from sphinx_exercise.nodes import solution_node
 
-            for node in list(self.document.findall(solution_node)):
-                node.parent.remove(node)
+            solutions = list(self.document.findall(solution_node))
+            if not solutions:
+                return
+            after, remove = False, []
+            for node in self.document.findall(nodes.Element):
+                if isinstance(node, solution_node):
+                    after = True
+                elif REFERENCE_ONLY in node.get("classes", ()):
+                    remove.append(node)
+                elif after and node.get("nb_element") == "cell_code_output":
+                    remove.append(node)
+            for node in solutions + remove:
+                if node.parent is not None:
+                    node.parent.remove(node)
 
     app.add_config_value("roughgp_student_book", False, "env")
     app.add_transform(RemoveSolutions)
@@ -210,7 +344,12 @@ def main(argv=None) -> int:
         if left:
             print(f"error: solutions left in the student book: {left}", file=sys.stderr)
             return 1
-        print(f"wrote {html} (no solution on any page): open {html / 'index.html'}")
+        print(f"wrote {html}: open {html / 'index.html'}")
+    leaked = solution_code_left(args.out)
+    if leaked:
+        print(f"error: solution code left in the student build: {leaked[:5]}", file=sys.stderr)
+        return 1
+    print(f"checked every file of {args.out}: no solution code")
     return 0
 
 

@@ -43,20 +43,20 @@ def _points(axes):
 
 
 def coordinates(shape, spacing=1.0):
-    """Grid positions of shape (*shape, D): ``points[iy, ix] = (ix * dx, iy * dy)``."""
+    """Grid positions of shape ``(*shape, D)``: ``points[iy, ix] = (ix * dx, iy * dy)``."""
     shape, spacing = normalize(shape, spacing)
     return _points([np.arange(n) * d for n, d in zip(shape, spacing)])
 
 
 def centred_lags(shape, spacing=1.0):
-    """Lags of shape (*shape, D) with lag zero at index ``n // 2`` of each axis
+    """Lags of shape ``(*shape, D)`` with lag zero at index ``n // 2`` of each axis
     (``numpy.fft.fftshift`` order): ``(k - n // 2) * spacing`` per axis."""
     shape, spacing = normalize(shape, spacing)
     return _points([(np.arange(n) - n // 2) * d for n, d in zip(shape, spacing)])
 
 
 def centred_frequencies(shape, spacing=1.0):
-    """Frequencies (cycles per unit length) of shape (*shape, D) that pair with
+    """Frequencies (cycles per unit length) of shape ``(*shape, D)`` that pair with
     :func:`centred_lags` under the FFT: ``fftshift(fftfreq(n, spacing))`` per axis."""
     shape, spacing = normalize(shape, spacing)
     return _points([np.fft.fftshift(np.fft.fftfreq(n, d)) for n, d in zip(shape, spacing)])

@@ -10,10 +10,43 @@ from importlib.resources import files
 import matplotlib.pyplot as plt
 import numpy as np
 
-__all__ = ["use_style", "STYLE", "row_of_axes", "image", "compare_curves", "acvf_figure", "surface_figure"]
+__all__ = ["use_style", "STYLE", "PAGE_WIDTH_PX", "MIN_FONT_PT", "font_sizes_on_page", "row_of_axes",
+           "image", "compare_curves", "acvf_figure", "surface_figure"]
 
 STYLE = str(files("roughgp.common") / "roughgp.mplstyle")
 """Path of the book's matplotlib style file."""
+
+
+PAGE_WIDTH_PX = 720
+"""Width of the book's text column in CSS pixels (sphinx-book-theme in a 1280 px window): an
+image wider than this is shrunk to it, so a wide figure's text is shrunk with it."""
+
+MIN_FONT_PT = 9.0
+"""The smallest text size on the page (CSS points) that the book's figures allow."""
+
+
+def font_sizes_on_page(fig, page_width_px=PAGE_WIDTH_PX):
+    """The sizes (CSS points, 1 pt = 4/3 px) at which the tick labels, axis labels and titles of
+    ``fig`` appear on the book's page: the notebook shows a figure at ``fig.dpi`` pixels per
+    inch, shrunk to the text column when wider (``page_width_px``). Returns
+    ``{"ticks": smallest, "labels": smallest, "titles": smallest}`` over the visible axes."""
+    width_px = fig.get_figwidth() * fig.dpi
+    shrink = min(1.0, page_width_px / width_px)
+    to_page = fig.dpi / 72.0 * shrink * 0.75          # figure points -> CSS points on the page
+    sizes = {"ticks": [], "labels": [], "titles": []}
+    fig.canvas.draw()
+    for ax in fig.axes:
+        if not ax.get_visible():
+            continue
+        for label in ax.get_xticklabels() + ax.get_yticklabels():
+            if label.get_visible() and label.get_text():
+                sizes["ticks"].append(label.get_fontsize())
+        for text in (ax.xaxis.label, ax.yaxis.label):
+            if text.get_text():
+                sizes["labels"].append(text.get_fontsize())
+        if ax.title.get_text():
+            sizes["titles"].append(ax.title.get_fontsize())
+    return {kind: min(values) * to_page if values else None for kind, values in sizes.items()}
 
 
 def use_style():
@@ -21,7 +54,7 @@ def use_style():
     plt.style.use(STYLE)
 
 
-def row_of_axes(ncols=1, width=5.0, height=3.4):
+def row_of_axes(ncols=1, width=4.5, height=3.4):
     """A new figure with ``ncols`` axes in a row, each ``width`` x ``height`` inches:
     ``(figure, axes)``."""
     fig, axes = plt.subplots(1, ncols, figsize=(width * ncols, height), squeeze=False)
@@ -70,7 +103,7 @@ def acvf_figure(kernel, half_width, *, n=201, angle=None, level=None, height_uni
 
     lags = centred_lags((n, n), 2 * half_width / (n - 1))
     r = kernel.acvf(lags)
-    fig = plt.figure(figsize=(9.5, 3.8))
+    fig = plt.figure(figsize=(9, 3.8))
     ax3d = fig.add_subplot(1, 2, 1, projection="3d")
     stride = max(1, n // 200)  # fine enough for a thin ridge (figure 2: 5 wide in 400)
     ax3d.plot_surface(lags[..., 0], lags[..., 1], r, cmap="viridis", rstride=stride,
@@ -99,7 +132,7 @@ def surface_figure(z, spacing=1.0, *, height_unit="height unit", length_unit="gr
     dy, dx = np.broadcast_to(np.asarray(spacing, dtype=np.float64), (2,))
     step = max(1, int(np.ceil(max(ny, nx) / max_points_3d)))
     y, x = np.mgrid[0:ny:step, 0:nx:step]
-    fig = plt.figure(figsize=(10, 4.2))
+    fig = plt.figure(figsize=(9, 4.0))
     ax3d = fig.add_subplot(1, 2, 1, projection="3d")
     ax3d.plot_surface(x * dx, y * dy, z[::step, ::step], cmap="viridis", linewidth=0,
                       antialiased=False, rcount=z[::step, ::step].shape[0],

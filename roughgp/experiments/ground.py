@@ -83,7 +83,7 @@ class DirectionalAcvf:
     """The empirical ACVF on the grid lags near one direction, sorted by ``distance``.
 
     ``estimate``: the latent surface's (unbiased, demeaned) ACVF; ``model``: eq 18 at the
-    same lags; ``deviation``: max |estimate - (model - Var(mean))| / sd of the estimate.
+    same lags; ``deviation``: ``max |estimate - (model - Var(mean))| / sd`` of the estimate.
     """
 
     name: str

@@ -40,7 +40,7 @@ SHORT_LAMBDA_A = 20.0          # the contrast: figure 2's lambda_b and phi, a sh
 
 @dataclasses.dataclass(frozen=True)
 class ARFit:
-    """One 2-D AR fit of eq 18: ``max_error``, the largest |ACVF - eq 18| over the window in
+    """One 2-D AR fit of eq 18: ``max_error``, the largest ``|ACVF - eq 18|`` over the window in
     units of :math:`\\sigma_k^2`; ``along``: its ACVF along the grooves (units of
     :math:`\\sigma_k^2`) at :attr:`LongCorrelation2D.along_lags`."""
 
@@ -88,7 +88,7 @@ class LongCorrelation2D:
 
     @property
     def filter_wrap_error(self) -> float:
-        """The largest |filter ACVF - eq 18| along the grooves (units of sigma_k^2)."""
+        """The largest ``|filter ACVF - eq 18|`` along the grooves (units of sigma_k^2)."""
         return float(np.abs(self.filter_along - self.true_along).max())
 
 

@@ -46,7 +46,8 @@ __all__ = ["DATA", "LAND_FILE", "PROFILE_FILE", "LAND_L_FILTER", "LandResult", "
            "LAY_TOLERANCE_DEG", "WEAK_ANISOTROPY", "land_fit_verdicts", "land_check_verdicts",
            "bullet_land", "stylus_profile", "cross_validated_fill", "centre_crop", "hide_discs",
            "fill_verdicts", "TIE", "increment_kurtosis", "file_increment_kurtosis",
-           "form_removed", "file_height_step"]
+           "form_removed", "file_height_step", "display_unit", "cross_validation_rows",
+           "self_check_rows"]
 
 LAND_FILE = "sample-land.x3p"
 PROFILE_FILE = "dektak-1.csv"
@@ -297,6 +298,43 @@ def fill_verdicts(cvs) -> dict:
         "the self-check's calibrated band holds 95 +- 3 % of the hidden points on every file":
             all(abs(cv.calibrated_coverage - 0.95) < 0.03 for cv in cvs.values()),
     }
+
+
+def display_unit(name) -> tuple[str, float]:
+    """The unit the chapter shows a file's heights and errors in, and the factor from µm: the
+    land in µm, the nanometre-scale files of :data:`CV_FILES` in nm."""
+    return ("µm", 1.0) if name == LAND_FILE else ("nm", 1000.0)
+
+
+def cross_validation_rows(cvs) -> list[dict]:
+    """One row per file of the cross-validation ``cvs`` (file name -> :class:`CrossValidation`)
+    for the chapter's table: the smoothness chosen, the RMSE at the hidden points of the GP,
+    linear and cubic interpolation and the median absolute errors (in :func:`display_unit`),
+    the share inside the Gaussian ±2 sd band, the calibrated factor k and the share inside
+    ±k sd."""
+    rows = []
+    for name, cv in cvs.items():
+        unit, factor = display_unit(name)
+        rows.append({"file": name, "unit": unit, "ν": cv.nu,
+                     **{f"RMSE {m}": factor * cv.rmse[m] for m in ("GP", "linear", "cubic")},
+                     **{f"median |error| {m}": factor * cv.median_abs[m]
+                        for m in ("GP", "linear")},
+                     "in ±2 sd": cv.coverage, "k": cv.band_factor,
+                     "in ±k sd": cv.calibrated_coverage})
+    return rows
+
+
+def self_check_rows(cvs) -> list[dict]:
+    """One row per file: the fill's self-check on other measured points, the held-out RMSE of
+    the GP for each smoothness ν tried and of linear interpolation (in :func:`display_unit`)."""
+    rows = []
+    for name, cv in cvs.items():
+        unit, factor = display_unit(name)
+        checks = cv.self_checks
+        rows.append({"file": name, "unit": unit,
+                     **{f"GP, ν = {nu:g}": factor * c.rmse["GP"] for nu, c in checks.items()},
+                     "linear": factor * next(iter(checks.values())).rmse["linear"]})
+    return rows
 
 
 def increment_kurtosis(heights) -> float:

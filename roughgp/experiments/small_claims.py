@@ -86,7 +86,7 @@ def kernel_duality_table(full=None, *, spacing_1d=0.01, n_1d=2 ** 14 + 1, spacin
                          band=5.0, fig1=None):
     """Eq 5 for every profile ACVF of :func:`profile_kernels` on ``n_1d`` lags and for figure
     1's ACVF (eq 18, phi = 30 deg, lambda = (0.5, 0.1)) on a 1025² grid (2049² with ``full``;
-    ``None``: ``ROUGHGP_FULL``). Forward errors over |f| <= ``band``."""
+    ``None``: ``ROUGHGP_FULL``). Forward errors over ``|f| <= band``."""
     fig1 = fig1 or dict(variance=1.0, lengthscales=(0.5, 0.1), angle=math.pi / 6)
     n_2d = 2049 if resolve_full(full) else 1025
     profile = profile_kernels()

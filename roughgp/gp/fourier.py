@@ -27,7 +27,7 @@ from roughgp.common.grid import centred_frequencies, centred_lags, normalize
 __all__ = ["lag_grid", "frequency_grid", "acvf_to_psd", "psd_to_acvf", "duality_errors"]
 
 lag_grid = centred_lags
-"""Centred lags of shape (*shape, D): see :func:`roughgp.common.grid.centred_lags`."""
+"""Centred lags of shape ``(*shape, D)``: see :func:`roughgp.common.grid.centred_lags`."""
 
 frequency_grid = centred_frequencies
 """Centred frequencies matching :func:`lag_grid`: see :func:`roughgp.common.grid.centred_frequencies`."""
@@ -72,9 +72,9 @@ def duality_errors(acvf, psd, shape, spacing=1.0, band=None):
     Evaluates ``acvf`` on :func:`lag_grid` and ``psd`` on :func:`frequency_grid` (both
     functions of points of shape (..., D)), transforms each into the other, and returns:
 
-    * ``"forward"``: max |FFT(ACVF) - PSD| over frequencies with |f| <= ``band`` (all if
+    * ``"forward"``: ``max |FFT(ACVF) - PSD|`` over frequencies with ``|f| <= band`` (all if
       ``None``), relative to the PSD's largest value -- the aliasing error;
-    * ``"inverse"``: max |IFFT(PSD) - ACVF| over all lags, relative to ACVF(0);
+    * ``"inverse"``: ``max |IFFT(PSD) - ACVF|`` over all lags, relative to ACVF(0);
     * ``"lag0_deficit"``: (ACVF(0) - IFFT(PSD)(0)) / ACVF(0), the share of the variance in
       PSD mass beyond the grid's Nyquist frequency -- the truncation error.
     """

@@ -191,7 +191,7 @@ def check_long_correlation(full):
 
 def _long_correlation_figure(result):
     """Left: the AR fits' window error against the order; right: ACVFs along the grooves."""
-    fig, axes = row_of_axes(2, width=5.0)
+    fig, axes = row_of_axes(2, width=4.5)
     for kind, style in (("quarter", "s-"), ("half", "o-")):
         errors = [result.fits[kind, p].max_error for p in result.orders]
         axes[0].plot(result.orders, errors, style, label=f"{kind}-plane AR, lambda_a = "

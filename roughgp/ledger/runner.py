@@ -93,7 +93,7 @@ def run(*, full: bool | None = None, only: Iterable[str] | None = None,
         if result.figure is not None:
             if figures_dir is not None:
                 path = str(figures_dir / f"{c.key}.png")
-                result.figure.savefig(path, dpi=110)
+                result.figure.savefig(path, dpi=110, bbox_inches="tight")
             plt.close(result.figure)
         if matplotlib.get_backend() != backend:  # pragma: no cover - checks never switch
             matplotlib.use(backend)

@@ -31,7 +31,7 @@ def periodogram(z, spacing=1.0, demean=True):
     r"""Two-sided periodogram :math:`I(\boldsymbol f) = \frac{\Delta^D}{N}\,
     |\sum_{\boldsymbol x} z(\boldsymbol x)\, e^{-i2\pi\boldsymbol f^\top\boldsymbol x}|^2`.
 
-    Returns ``(freqs, power)``: ``freqs`` of shape (*z.shape, D) on the centred FFT grid, and
+    Returns ``(freqs, power)``: ``freqs`` of shape ``(*z.shape, D)`` on the centred FFT grid, and
     ``power`` of shape ``z.shape``. Its expectation is the aliased PSD smoothed by the Fejér
     kernel; at each frequency it scatters like :math:`S\cdot\chi^2_2/2` (an exponential law).
     """
@@ -78,7 +78,7 @@ def empirical_acvf(z, spacing=1.0, max_lag=None, unbiased=False, demean=True):
     Args:
         max_lag: largest lag index per axis (int or one per axis), default ``n - 1``.
 
-    Returns ``(lags, values)``: lags of shape (*m, D) with components in (x, y) order and the
+    Returns ``(lags, values)``: lags of shape ``(*m, D)`` with components in (x, y) order and the
     estimate of shape ``m`` where ``m = 2 * max_lag + 1`` per axis.
     """
     z = _data(z)

@@ -12,6 +12,7 @@ parameter sets are in :mod:`roughgp.metrology.texture`, which builds on the help
 :func:`flat_message`).
 
 Conventions (both modules):
+
 * Heights are referred to their mean (``level=False``) or to a least-squares plane / line
   (``level=True``). The standards evaluate the S-F (areal) or filtered roughness (profile)
   surface; no form removal beyond the plane and no filtering is done here, and a profile

@@ -373,7 +373,7 @@ def matern32_to_arma21(variance, lengthscale, spacing):
     :math:`c_1 = \sigma_k^2 \rho(c(1+\rho^2)-1+\rho^2) = 2\sigma_k^2 \rho^2(c\cosh c - \sinh c)`
     (for c < 1 the sinh forms, summed as series, avoid cancellation). Spectral
     factorisation :math:`\sigma^2(1 + b^2) = c_0, \sigma^2 b = c_1` with the invertible root
-    |b| < 1 gives the MA part. A sampled CAR(2) is ARMA(2, 1), not AR(2) (Brockwell 2001).
+    ``|b| < 1`` gives the MA part. A sampled CAR(2) is ARMA(2, 1), not AR(2) (Brockwell 2001).
 
     Returns:
         ``(ar, ma, sigma2)`` with ``ar = [2 rho, -rho^2]``, ``ma = [b]``.

@@ -287,7 +287,7 @@ def embed(acvf, shape, spacing=1.0, *, tolerance=1e-10, approximate=False,
 
 def draw(embedding: Embedding, n_samples: int, rng: np.random.Generator, dtype=np.float64,
          device=None):
-    """``n_samples`` draws from an embedding, two per complex FFT; shape (n, *grid_shape).
+    """``n_samples`` draws from an embedding, two per complex FFT; shape ``(n, *grid_shape)``.
 
     ``dtype=np.float32`` runs the FFTs in single precision (complex64), halving memory.
     ``device`` (a ``torch.device``, see :mod:`roughgp.common.device`) runs the FFTs there with noise
@@ -358,7 +358,7 @@ def _draw_on_device(embedding, n_samples, rng, dtype, device):
 def compare_truncations(acvf, shape, spacing, torus_shape):
     """For a smooth embedding on ``torus_shape``: the torus that the plain wrap is predicted to
     need (at least; its eigenvalue check may grow it further), both sizes over the grid's, and
-    max |c - r| / r(0) over the grid's lags (0: R of eq 10 is unchanged)."""
+    ``max |c - r| / r(0)`` over the grid's lags (0: R of eq 10 is unchanged)."""
     shape, spacing = normalize(shape, spacing)
     spacing = tuple(float(d) for d in spacing)
     plain = predict_torus(acvf, shape, spacing, truncation="none")

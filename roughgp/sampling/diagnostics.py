@@ -35,7 +35,7 @@ def sample_covariance(samples):
 
 def covariance_error(samples, covariance):
     """Mean absolute element-wise error between ``covariance`` and the unbiased sample
-    covariance of ``samples`` (shape (n_samples, *grid)), as in section 3.1."""
+    covariance of ``samples`` (shape ``(n_samples, *grid)``), as in section 3.1."""
     covariance = np.asarray(covariance, dtype=np.float64)
     s = sample_covariance(samples)
     if s.shape != covariance.shape:

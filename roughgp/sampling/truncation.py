@@ -104,7 +104,7 @@ def tapered_eigenvalues(acvf, torus_shape, spacing, shape):
 
 
 def face_levels(acvf, shape, spacing, torus_shape, *, outer=False):
-    """Per axis, max |r| / r(0) on lags beyond the grid's along it, ``(n_a - 1) d_a <= |tau_a|
+    """Per axis, ``max |r| / r(0)`` on lags beyond the grid's along it, ``(n_a - 1) d_a <= |tau_a|
     <= max(m_a / 2, n_a + 15) d_a`` (at most 64 of them), the other axes over all their lags on
     the torus (a ridge may cross the face beyond the grid's lags; a band, not the face alone,
     since an oscillating ACVF may vanish on the face itself). ``outer=True``: on the outer
@@ -266,7 +266,7 @@ def rounding_level(base, variance):
 
 
 def grid_lag_change(acvf, shape, spacing, torus_shape):
-    """max |c(tau) - r(tau)| / r(0) over every lag two grid points have, where c is the tapered
+    """``max |c(tau) - r(tau)| / r(0)`` over every lag two grid points have, where c is the tapered
     ACVF on ``torus_shape``: 0 when the embedding leaves R of eq 10 unchanged."""
     base = tapered_acvf(acvf, torus_shape, spacing, shape)
     index = np.ix_(*[np.arange(-(n - 1), n) % m for n, m in zip(shape, torus_shape)])

@@ -18,23 +18,8 @@ from booktools import student
 LABS = sorted(student.LABS.glob("lab*.ipynb"))
 
 
-def _code_lines(nb):
-    """The code lines (stripped, longer than a trivial line) inside the reference solutions,
-    and those outside them (the given code and the self-checks)."""
-    inside_lines, outside_lines, inside = [], [], False
-    for cell in nb.cells:
-        if cell.cell_type == "markdown" and "{solution-start}" in cell.source:
-            inside = True
-        elif cell.cell_type == "markdown" and "{solution-end}" in cell.source:
-            inside = False
-        elif cell.cell_type == "code":
-            lines = [ln.strip() for ln in cell.source.splitlines() if len(ln.strip()) > 12]
-            (inside_lines if inside else outside_lines).extend(lines)
-    return inside_lines, outside_lines
-
-
 def _solution_code(nb):
-    return _code_lines(nb)[0]
+    return student.solution_lines(nb)[0]
 
 
 @pytest.fixture(scope="module")
@@ -44,7 +29,7 @@ def edition(tmp_path_factory):
 
 
 def test_every_lab_has_gated_solutions():
-    assert len(LABS) == 6
+    assert len(LABS) >= 8
     for path in LABS:
         nb = nbformat.read(path, as_version=4)
         assert _solution_code(nb), f"{path.name}: no solution-start/solution-end code"
@@ -61,10 +46,12 @@ def test_no_solution_is_left(edition):
         source = "\n".join(c.source for c in nbformat.read(path, as_version=4).cells
                            if c.cell_type == "code")
         ref = nbformat.read(ref_path, as_version=4)
-        solution, given = _code_lines(ref)
-        # a solution line that the given code or a self-check repeats may stay
-        left = [ln for ln in solution if ln in source and ln not in given]
+        # a solution line that the given code, a self-check or a task's text repeats may stay
+        source = " ".join(source.split())
+        left = [ln for ln in _solution_code(ref) if ln in source]
         assert not left, f"{path.name} still holds solution code: {left[:3]}"
+        assert "reference solutions are collapsed" not in text
+        assert student.REFERENCE_ONLY not in text
         assert source.count("raise NotImplementedError(") >= 1
     with zipfile.ZipFile(out / "roughgp-labs-student.zip") as z:
         assert sorted(z.namelist()) == sorted(f"roughgp-labs/{p.name}" for p in LABS)
@@ -114,14 +101,52 @@ The answer is FORTY-TWO-SOLUTION.
 """
 
 
+def _cell(kind, source, output=None):
+    if kind == "markdown":
+        return nbformat.v4.new_markdown_cell(source)
+    cell = nbformat.v4.new_code_cell(source, execution_count=1)
+    if output:
+        cell.outputs = [nbformat.v4.new_output("stream", name="stdout", text=output)]
+    return cell
+
+
+def _tiny_lab():
+    """A lab with stored outputs (the tiny book does not execute): a given cell, a task, its
+    solution (code with an output), a self-check, and a note of the reference edition."""
+    nb = nbformat.v4.new_notebook()
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",
+                                 "language": "python"}
+    nb.cells = [
+        _cell("markdown", "# Lab 8\n\nThe lab's introduction."),
+        _cell("markdown", f":::{{note}}\n:class: {student.REFERENCE_ONLY}\n"
+                          "REFERENCE-ONLY-NOTE: the solutions are collapsed.\n:::"),
+        _cell("code", "GIVEN_NUMBER = 6", "GIVEN-OUTPUT\n"),
+        _cell("markdown", "## Task 1: the answer\n\n:::{exercise} Lab 8, task 1\n:nonumber:\n"
+                          ":label: lab8-task1\n\nCompute `answer_value`.\n:::"),
+        _cell("markdown", ":::{solution-start} lab8-task1\n:class: dropdown\n:::"),
+        _cell("code", "answer_value = GIVEN_NUMBER * 7  # the solution",
+              "SOLUTION-OUTPUT\n"),
+        _cell("markdown", ":::{solution-end}\n:::"),
+        _cell("code", "# self-check\nassert answer_value == 42\nprint(answer_value)",
+              "SELF-CHECK-OUTPUT-42\n"),
+    ]
+    return nb
+
+
 def _tiny_book(root):
+    """A page with a written solution, and a lab in ``../notebooks`` that the book reaches
+    through the link ``labs`` (as the real book does)."""
     root.mkdir()
+    notebooks = root.parent / "notebooks"
+    notebooks.mkdir()
+    nbformat.write(_tiny_lab(), notebooks / "lab8.ipynb")
+    (root / "labs").symlink_to(notebooks, target_is_directory=True)
     (root / "_config.yml").write_text(
         "title: tiny\nonly_build_toc_files: true\nexecute:\n  execute_notebooks: 'off'\n"
         "parse:\n  myst_enable_extensions: [colon_fence]\n"
         "sphinx:\n  extra_extensions: [sphinx_exercise]\n"
         f"  local_extensions:\n    student: {student.ROOT / 'booktools'}\n")
-    (root / "_toc.yml").write_text("format: jb-book\nroot: lab\n")
+    (root / "_toc.yml").write_text("format: jb-book\nroot: lab\nchapters:\n  - file: labs/lab8\n")
     (root / "lab.md").write_text(_PAGE)
     return root
 
@@ -144,4 +169,37 @@ def test_the_student_book_hides_every_solution_the_reference_book_shows(tmp_path
                    capture_output=True)
     shown = reference / "_build" / "html"
     assert "FORTY-TWO-SOLUTION" in (shown / "lab.html").read_text()
-    assert student.solutions_left(shown) == ["lab.html"]
+    assert student.solutions_left(shown) == ["lab.html", "labs/lab8.html"]
+
+
+def test_no_file_of_the_student_build_holds_solution_code(tmp_path):
+    """Every file of the student build (pages, _sources, search index, notebooks, zip) is
+    searched for the solution's code: nothing in the student build, and the same search finds
+    it in the reference build, in the page, its _sources and the executed notebook."""
+    book = _tiny_book(tmp_path / "book")
+    out = tmp_path / "student"
+    labs = tmp_path / "notebooks"
+    student.write_student_edition(labs, out)
+    html = student.build_student_book(out / "book", book)
+    assert student.solution_code_left(out, labs=labs, book=book) == []
+    assert sorted(p.name for p in out.rglob("*.ipynb")) == ["lab8.ipynb", "lab8.ipynb"]
+    page = (html / "labs" / "lab8.html").read_text()
+    assert "GIVEN-OUTPUT" in page and "Compute" in page
+    for hidden in ("SOLUTION-OUTPUT", "SELF-CHECK-OUTPUT-42", "REFERENCE-ONLY-NOTE"):
+        assert hidden not in page
+    served = nbformat.read(html / "_sources" / "labs" / "lab8.ipynb", as_version=4)
+    assert "raise NotImplementedError" in served.cells[-2].source
+    assert not (out / "book" / "_build" / "jupyter_execute").exists()
+    # the reference build of the same book: the search finds the solution in each place
+    reference = tmp_path / "reference"
+    import subprocess
+    import sys
+    subprocess.run([str(Path(sys.executable).with_name("jupyter-book")), "build",
+                    "--path-output", str(reference), str(book)], check=True,
+                   capture_output=True)
+    leaks = student.solution_code_left(reference, labs=labs, book=book)
+    where = {leak.split(":")[0] for leak in leaks}
+    assert {"_build/html/labs/lab8.html", "_build/html/_sources/labs/lab8.ipynb"} <= where, leaks
+    assert "answer_value = GIVEN_NUMBER * 7 # the solution" in leaks[0]
+    shown = (reference / "_build" / "html" / "labs" / "lab8.html").read_text()
+    assert "SELF-CHECK-OUTPUT-42" in shown and "REFERENCE-ONLY-NOTE" in shown

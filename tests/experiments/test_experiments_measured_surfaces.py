@@ -55,3 +55,25 @@ def test_largest_errors_share_and_median_abs_of_a_cross_validation():
     assert cv.median_abs == {"GP": pytest.approx(0.1), "linear": pytest.approx(0.2)}
     assert cv.worse_tail() == pytest.approx(0.01)          # only the one large error is worse
     assert cv.worse_tail("linear", "GP") == 0.0
+
+
+def test_the_chapter_tables_convert_to_the_shown_unit():
+    """The cross-validation and self-check rows show the land in µm and the other files in nm
+    (1000 x their µm values), one row per file, in the files' order."""
+    from types import SimpleNamespace
+
+    from roughgp.experiments import measured_surfaces as ms
+
+    check = SimpleNamespace(rmse={"GP": 0.002, "linear": 0.003})
+    cv = SimpleNamespace(nu=0.5, rmse={"GP": 0.001, "linear": 0.002, "cubic": 0.004},
+                         median_abs={"GP": 0.0005, "linear": 0.0006}, coverage=0.9,
+                         band_factor=2.4, calibrated_coverage=0.95,
+                         self_checks={0.5: check, 1.5: check})
+    cvs = {ms.LAND_FILE: cv, "sur-2.sur": cv}
+    rows = ms.cross_validation_rows(cvs)
+    assert [r["file"] for r in rows] == [ms.LAND_FILE, "sur-2.sur"]
+    assert rows[0]["unit"] == "µm" and rows[0]["RMSE GP"] == 0.001
+    assert rows[1]["unit"] == "nm" and rows[1]["RMSE cubic"] == 4.0
+    assert rows[1]["median |error| linear"] == 0.6 and rows[1]["in ±k sd"] == 0.95
+    checks = ms.self_check_rows(cvs)
+    assert checks[1]["GP, ν = 1.5"] == 2.0 and checks[1]["linear"] == 3.0

@@ -208,24 +208,25 @@ def plot_model_check(check: ModelCheck, path=None, *, title=None):
 
     use_style()
     n = len(check.parameters)
-    cols = min(n, 5)
+    cols = min(n, 4)          # four panels a row: 8.8 in, the labels >= 9 pt on the book's page
     rows = -(-n // cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(2.3 * cols, 1.9 * rows), squeeze=False)
+    fig, axes = plt.subplots(rows, cols, figsize=(2.2 * cols, 2.0 * rows), squeeze=False)
     jitter = np.random.default_rng(0).uniform(-0.25, 0.25, check.n_simulations)
     for ax, p in zip(axes.flat, check.parameters):
         ax.plot(jitter, p.simulated, "o", ms=3, color="0.45", label="simulations")
         colour = "tab:red" if p.outside else "tab:blue"
         ax.axhline(p.measured, color=colour, lw=2, label="measurement")
-        ax.set_title(f"{p.name}" + (f" ({p.unit})" if p.unit else "")
-                     + (" outside" if p.outside else ""), fontsize=9,
+        unit = p.unit.replace("um", "µm") if p.unit else ""
+        ax.set_title(f"{p.name}" + (f" ({unit})" if unit else "")
+                     + (" outside" if p.outside else ""), fontsize=11,
                      color=colour if p.outside else "black")
         ax.set_xlim(-1, 1)
         ax.set_xticks([])
-        ax.tick_params(labelsize=7)
+        ax.tick_params(labelsize=11)
     for ax in list(axes.flat)[n:]:
         ax.set_visible(False)
     fig.suptitle(title or f"the measurement (line) among {check.n_simulations} simulations "
-                 f"of the model (dots)", fontsize=10)
+                 f"of the model (dots)", fontsize=11)
     if path is not None:
-        fig.savefig(path, dpi=120)
+        fig.savefig(path, dpi=120, bbox_inches="tight")
     return fig
