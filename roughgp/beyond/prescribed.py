@@ -157,7 +157,7 @@ def calibrate(targets, shape, *, seeds=range(8), iterations=3, noise_variance=1.
 
 def simulate_with_targets(targets, shape, *, seed, spacing=1.0, noise_variance=1.0,
                           calibration: Calibration | None = None, method="auto"):
-    """A ground surface (eq 18 plus the noise of eq 8, :func:`roughgp.models.surfaces.ground`)
+    r"""A ground surface (eq 18 plus the noise of eq 8, :func:`roughgp.models.surfaces.ground`)
     whose ISO 25178-2 parameters are ``targets`` (Sq 4.1, Sal 4.2.1, Str 4.2.2, Std 4.5.1).
 
     Args:

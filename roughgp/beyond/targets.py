@@ -348,7 +348,7 @@ def sq_prediction(hyperparameters: GroundHyperparameters, shape, spacing=1.0):
 
 
 def groove_lengths(hyperparameters: GroundHyperparameters, shape, spacing=1.0) -> float:
-    """How many correlation lengths :math:`\lambda_a` (the longer lengthscale) the shorter
+    r"""How many correlation lengths :math:`\lambda_a` (the longer lengthscale) the shorter
     side of the field spans; below :data:`MIN_GROOVE_LENGTHS` the measured Sal and Str are
     biased and Str may be undefined."""
     shape, spacing = normalize(surface_shape(shape), spacing)
@@ -357,7 +357,7 @@ def groove_lengths(hyperparameters: GroundHyperparameters, shape, spacing=1.0) -
 
 
 def field_warning(hyperparameters: GroundHyperparameters, shape, spacing=1.0):
-    """A message when the field spans fewer than :data:`MIN_GROOVE_LENGTHS` correlation
+    r"""A message when the field spans fewer than :data:`MIN_GROOVE_LENGTHS` correlation
     lengths :math:`\lambda_a`, else None."""
     n = groove_lengths(hyperparameters, shape, spacing)
     if n >= MIN_GROOVE_LENGTHS:

@@ -151,17 +151,11 @@ def operator_settings(args) -> dict:
 
 def read_input(args, kind="auto"):
     """The measurement of ``args.file`` (:func:`roughgp.metrology.measurement.read_measurement`
-    with the input options), refusing ``--unit`` where the reader has no use for it: only
-    instrument files take a unit from it; a ``.npy`` (heights in um), an ``.x3p`` (metres) and
-    text files (their header or um) have theirs."""
+    with the input options). ``--unit`` is the reader's to apply or refuse: it sets the heights'
+    unit of ``.npy``, text and instrument files, and an ``.x3p`` (metres) refuses it."""
     from roughgp.metrology.measurement import read_measurement
-    heights = read_measurement(args.file, kind=kind, spacing=args.spacing,
-                               channel=args.channel, unit=args.unit)
-    if args.unit is not None and "unit" not in heights.meta:  # instrument readers set it
-        raise UsageError(f"--unit {args.unit}: {args.file} is read by {heights.reader} (heights: "
-                         f"{heights.unit_source}); --unit applies to instrument files only: "
-                         f"convert the heights to um, or drop --unit")
-    return heights
+    return read_measurement(args.file, kind=kind, spacing=args.spacing,
+                            channel=args.channel, unit=args.unit)
 
 
 class Given(argparse.Action):

@@ -35,7 +35,12 @@ def _set(record, path, value):
     return record
 
 
-_DELETE = object()
+class _Delete:
+    def __repr__(self):  # a stable test id (an object's default repr carries its address)
+        return "<deleted>"
+
+
+_DELETE = _Delete()
 
 HOSTILE = [
     # (path, value, words of the message)

@@ -117,19 +117,33 @@ def test_l_filter_longer_than_the_field_is_refused(capsys, surface):
     assert code == 0, err
 
 
-@pytest.mark.parametrize("name", ["z.npy", "z.csv", "z.x3p"])
-def test_unit_is_refused_where_the_format_fixes_the_unit(capsys, tmp_path, name):
+def _sq(text):
+    return float(next(line.split()[1] for line in text.splitlines() if line.split()[:1] == ["Sq"]))
+
+
+@pytest.mark.parametrize("name", ["z.npy", "z.csv"])
+def test_unit_is_applied_to_heights_files_and_an_implausible_result_refused(capsys, tmp_path,
+                                                                           name):
     z = np.random.default_rng(1).normal(size=(20, 24))
     path = tmp_path / name
     if name.endswith(".npy"):
         np.save(path, z)
-    elif name.endswith(".csv"):
-        np.savetxt(path, z, delimiter=",")
     else:
-        x3p.write_x3p(path, z, 1.0)
-    for unit in ("m", "mm"):
-        code, _, err = _run(capsys, "texture", path, "--unit", unit)
-        assert code == 2 and f"--unit {unit}: " in err and "instrument files only" in err, err
+        np.savetxt(path, z, delimiter=",")
+    code, out, err = _run(capsys, "texture", path, "--unfiltered")
+    assert code == 0, err
+    code, out_mm, err = _run(capsys, "texture", path, "--unfiltered", "--unit", "mm")
+    assert code == 0, err
+    assert _sq(out_mm) == pytest.approx(1000 * _sq(out), rel=1e-6)
+    code, _, err = _run(capsys, "texture", path, "--unit", "m")   # heights of metres: refused
+    assert code == 2 and "implausible" in err, err
+
+
+def test_unit_is_refused_for_an_x3p(capsys, tmp_path):
+    path = tmp_path / "z.x3p"
+    x3p.write_x3p(path, np.random.default_rng(1).normal(size=(20, 24)), 1.0)
+    code, _, err = _run(capsys, "texture", path, "--unit", "mm")
+    assert code == 2 and "x3p" in err and "unit" in err, err
     assert _run(capsys, "texture", path)[0] == 0
 
 
