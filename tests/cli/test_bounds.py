@@ -5,7 +5,6 @@ given to a surface model are refused or read right, never ignored."""
 
 from __future__ import annotations
 
-import json
 import os
 import time
 from pathlib import Path
@@ -17,15 +16,10 @@ from roughgp.cli.main import main
 from roughgp.cli.options import BOUNDS, bounds_text
 from roughgp.cli.parser import build_parser
 from roughgp.metrology import x3p
+from cli_run import run as _run
 
 DATA = Path(__file__).resolve().parents[2] / "data"
 LAND = DATA / "sample-land.x3p"
-
-
-def _run(capsys, *argv):
-    code = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 @pytest.fixture

@@ -10,15 +10,9 @@ import math
 import numpy as np
 import pytest
 
-from roughgp.cli.main import main
 from roughgp.metrology import readers, texture_report, x3p
 from roughgp.metrology.readers import MalformedFileError
-
-
-def _run(capsys, *argv):
-    code = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return code, out, err
+from cli_run import run as _run
 
 
 def _exponential(lags):

@@ -11,14 +11,9 @@ import pytest
 
 from roughgp.cli.main import main
 from roughgp.metrology import x3p
+from cli_run import run as _run
 
 LAND = Path(__file__).resolve().parents[2] / "data" / "sample-land.x3p"
-
-
-def _run(capsys, *argv):
-    code = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 @pytest.fixture(scope="module")

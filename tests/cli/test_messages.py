@@ -12,17 +12,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from roughgp.cli.main import main
 from roughgp.cli.output import rename_parameters, shell_message
 from roughgp.metrology import x3p
+from cli_run import run as _run
 
 ROOT = Path(__file__).resolve().parents[2]
-
-
-def _run(capsys, *argv):
-    code = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 @pytest.mark.parametrize("argv, says, not_says", [

@@ -6,7 +6,6 @@ when the command is interrupted by SIGINT; the message names the file written.""
 
 from __future__ import annotations
 
-import json
 import os
 import signal
 import subprocess
@@ -19,14 +18,9 @@ import pytest
 
 from roughgp.cli.main import main
 from roughgp.metrology import writers, x3p
+from cli_run import run as _run
 
 ROOT = Path(__file__).resolve().parents[2]
-
-
-def _run(capsys, *argv):
-    code = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def _holes(shape=(16, 20), seed=0):

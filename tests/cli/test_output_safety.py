@@ -9,14 +9,8 @@ import time
 import numpy as np
 import pytest
 
-from roughgp.cli.main import main
 from roughgp.metrology import x3p
-
-
-def _run(capsys, *argv):
-    code = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return code, out, err
+from cli_run import run as _run
 
 
 @pytest.fixture

@@ -6,16 +6,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from roughgp.cli.main import main
 from roughgp.metrology.measurement import read_measurement
 from roughgp.metrology.readers import MalformedFileError
 from roughgp.metrology.texture import areal_parameters, profile_parameters
-
-
-def _run(capsys, *argv):
-    code = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return code, out, err
+from cli_run import run as _run
 
 
 @pytest.mark.parametrize("option, value", [

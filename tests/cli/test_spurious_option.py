@@ -6,14 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from roughgp.cli.main import main
 from roughgp.experiments.spurious_points import draw_surface
-
-
-def _run(capsys, *argv):
-    code = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return code, out, err
+from cli_run import run as _run
 
 
 @pytest.fixture(scope="module")
