@@ -11,6 +11,10 @@ with the seconds their imports took. Not a test: run it by hand at the repositor
     python benchmarks/cli_startup.py                 # 5 repeats of each case
     python benchmarks/cli_startup.py --repeats 11
 
+``SurfaceTopography`` in the last column is its whole package (all readers, pandas,
+matplotlib, ...); ``SurfaceTopography.IO.Reader`` alone is the one-reader path of
+:mod:`roughgp.metrology.instrument_readers` (an ``.opd`` needs no more).
+
 The machine's load shows in the figures (it prints the 1-minute load average): compare the
 fastest times across runs on a busy machine.
 """
@@ -39,8 +43,8 @@ CASES = (
 )
 
 #: the packages whose import a person would notice (seconds each on the 2-core machine)
-HEAVY = ("torch", "gpytorch", "SurfaceTopography", "scipy.signal", "scipy.stats", "pandas",
-         "matplotlib", "x3pio")
+HEAVY = ("torch", "gpytorch", "SurfaceTopography", "SurfaceTopography.IO.Reader", "scipy.signal",
+         "scipy.stats", "scipy.optimize", "scipy.ndimage", "pandas", "matplotlib", "x3pio")
 
 
 def _command(arguments, tmp) -> list[str]:

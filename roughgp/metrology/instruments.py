@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from roughgp.metrology.instrument_readers import open_by_extension
 from roughgp.metrology.readers import MAX_POINTS, MalformedFileError, profile_step
 from roughgp.metrology.x3p import HeightMap
 
@@ -109,6 +110,26 @@ def _nms_spacing(path) -> tuple[float, float]:
     return dy_nm * 1e-3, dx_nm * 1e-3
 
 
+def _open_by_detection(path):
+    """SurfaceTopography's reader of ``path``, the format detected by content (the whole
+    package imported); a :class:`MalformedFileError` saying what is wrong when none opens it."""
+    io = _topography_io()
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return io.open_topography(str(path))
+    except io.CannotDetectFileFormat:
+        named = _reader_named_by(path)
+        if named is not None:
+            raise MalformedFileError(f"{path}: not readable as {named} (the format its "
+                                     "extension names): its content matches no format "
+                                     "SurfaceTopography reads; truncated or damaged?") from None
+        raise MalformedFileError(f"{path}: not a format that roughgp or SurfaceTopography "
+                                 "reads (no reader recognises its content)") from None
+    except Exception as error:  # noqa: BLE001 - a reader's own failure, said with the file
+        raise _unreadable(path, error) from None
+
+
 def read_instrument(path, *, channel=0, unit=None) -> HeightMap:
     """Read a profile or a surface from an instrument file, in micrometres.
 
@@ -132,21 +153,9 @@ def read_instrument(path, *, channel=0, unit=None) -> HeightMap:
             holds no data channel, it states no unit (and none is given), or it holds more
             than :data:`MAX_POINTS`.
     """
-    io = _topography_io()
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            reader = io.open_topography(str(path))
-    except io.CannotDetectFileFormat:
-        named = _reader_named_by(path)
-        if named is not None:
-            raise MalformedFileError(f"{path}: not readable as {named} (the format its "
-                                     "extension names): its content matches no format "
-                                     "SurfaceTopography reads; truncated or damaged?") from None
-        raise MalformedFileError(f"{path}: not a format that roughgp or SurfaceTopography "
-                                 "reads (no reader recognises its content)") from None
-    except Exception as error:  # noqa: BLE001 - a reader's own failure, said with the file
-        raise _unreadable(path, error) from None
+    reader = open_by_extension(path)  # the one reader's module, without the whole package
+    if reader is None:
+        reader = _open_by_detection(path)
     try:
         names = [str(c.name) for c in reader.channels]
     except Exception as error:  # noqa: BLE001

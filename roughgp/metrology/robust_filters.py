@@ -34,10 +34,10 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import fftconvolve
 from scipy.special import lambertw
 
 from roughgp.common.checks import check_integer, check_positive, height_map
+from roughgp.common.convolution import convolve_same
 from roughgp.common.grid import normalize
 from roughgp.metrology.filters import ALPHA, check_cutoff
 
@@ -111,9 +111,7 @@ def _moments(field, kernels, power):
     out = field
     # kernels are in array order (y, x); a surface's powers are (ax, ay)
     for axis, (k, a) in enumerate(zip(kernels, power[::-1])):
-        shape = [1] * field.ndim
-        shape[axis] = k[a].size
-        out = fftconvolve(out, k[a].reshape(shape), mode="same", axes=axis)
+        out = convolve_same(out, k[a], axis)
     return out
 
 

@@ -10,7 +10,6 @@ on :math:`|f| \le 1/(2\Delta)`, i.e. :func:`roughgp.gp.fourier.acvf_to_psd` of t
 from __future__ import annotations
 
 import numpy as np
-from scipy import signal
 
 from roughgp.common.checks import check_finite
 from roughgp.common.grid import centred_frequencies, centred_lags, normalize
@@ -59,6 +58,8 @@ def welch(z, spacing=1.0, segment_length=256, overlap=0.5, window="hann"):
     if not 0 <= overlap < 1:
         raise ValueError(f"overlap must be in [0, 1), got {overlap!r}")
     (spacing,) = normalize(z.shape, spacing)[1]
+    from scipy import signal  # imported here: 0.5-0.8 s that texture and the filters do not need
+
     freqs, power = signal.welch(z, fs=1.0 / spacing, window=window, nperseg=segment_length,
                                 noverlap=int(overlap * segment_length), return_onesided=False,
                                 scaling="density", detrend="constant")
