@@ -137,14 +137,17 @@ def grid_covariance(kernel, shape, spacing=1.0, *, device=None):
 
 
 def _gathered(table, shape) -> np.ndarray:
-    """The (N, N) covariance from the lag ``table`` (numpy): each pair's lag looked up through
-    per-axis index arrays (a 2-D grid broadcasts ny x ny and nx x nx indices instead of
-    building :func:`covariance_index`'s N x N one: about 5 times faster)."""
-    offsets = [np.arange(n)[None, :] - np.arange(n)[:, None] + n - 1 for n in shape]
-    if len(shape) == 1:
-        return table[offsets[0]]
-    (ny, nx), (dy, dx) = shape, offsets
-    return table[dy[:, None, :, None], dx[None, :, None, :]].reshape(ny * nx, ny * nx)
+    """The (N, N) covariance from the lag ``table`` (numpy): entry ``((iy, ix), (jy, jx))`` is
+    ``table[jy - iy + ny - 1, jx - ix + nx - 1]``, copied from a strided view of the table
+    (row index steps back through it, column index forward: no index arrays; a 4096-point
+    grid's 134 MB in about a third of the time of a gather through broadcast indices)."""
+    table = np.ascontiguousarray(table, dtype=np.float64)
+    start = table[tuple(slice(n - 1, None) for n in shape)]  # a view starting at zero lag
+    strides = table.strides  # the view reaches back to lag -(n - 1), within the table
+    view = np.lib.stride_tricks.as_strided(
+        start, shape=(*shape, *shape), strides=(*(-s for s in strides), *strides), writeable=False)
+    n_points = int(np.prod(shape))
+    return np.ascontiguousarray(view).reshape(n_points, n_points)
 
 
 def covariance_index(shape, device=None):
@@ -192,7 +195,8 @@ def _cholesky_factor(covariance):
         else:
             try:
                 a = covariance + rel * scale * np.eye(len(covariance)) if rel else covariance
-                factor = scipy.linalg.cholesky(a, lower=True, check_finite=False)
+                factor = scipy.linalg.cholesky(a, lower=True, check_finite=False,
+                                               overwrite_a=a is not covariance)
             except np.linalg.LinAlgError:
                 continue
         if rel:

@@ -523,3 +523,12 @@ def test_narrow_spectral_lines_of_a_fitted_profile_are_sampled_exactly():
                                    return_info=True)
     assert z.shape == (2, n) and np.all(np.isfinite(z))
     assert info.clipped_fraction == 0.0 and info.torus_shape[0] < 100 * n
+
+
+@pytest.mark.parametrize("shape", [(7,), (1, 5), (4, 1), (3, 5), (6, 6)])
+def test_gathered_covariance_is_the_lag_table_read_through_covariance_index(shape):
+    from roughgp.sampling.grid_sampler import _gathered, covariance_index
+
+    table = np.random.default_rng(len(shape)).standard_normal(tuple(2 * n - 1 for n in shape))
+    expected = table.reshape(-1)[covariance_index(shape)]
+    np.testing.assert_array_equal(_gathered(table, shape), expected)
