@@ -62,6 +62,18 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     c.set_defaults(func=run)
 
 
+def _spacing_note(heights, model) -> str | None:
+    """A note when the file's spacing is not the model's (the simulations are drawn at the
+    file's, so a spacing the file does not state, assumed 1 um, compares other lengths)."""
+    spacing = heights.spacing if model.kind == "surface" else (heights.spacing[-1],)
+    if all(abs(a - b) <= 1e-6 * b for a, b in zip(spacing, model.spacing)):
+        return None
+    given = ", ".join(f"{d:g}" for d in spacing)
+    fitted = ", ".join(f"{d:g}" for d in model.spacing)
+    return (f"the file's spacing {given} um ({heights.spacing_source}) is not the model's "
+            f"{fitted} um (the data it was fitted to): the simulations are drawn at the file's")
+
+
 def run(args) -> int:
     """``roughgp check MODEL FILE``."""
     from roughgp.beyond.measured.check import check_model, plot_model_check
@@ -73,6 +85,7 @@ def run(args) -> int:
         raise UsageError(f"{args.file} holds a {heights.kind} ("
                          f"{' x '.join(map(str, heights.z.shape))} points); {args.model} is a "
                          f"{model.kind} model: check it against a {model.kind}")
+    spacing_note = _spacing_note(heights, model)
     z = remove_spurious(args, heights, model.cutoffs.get("form", "plane"))  # the model's F
     err(f"simulating {args.simulations} {model.kind}s of {' x '.join(map(str, heights.z.shape))}"
         f" points from {args.model} ...")
@@ -84,7 +97,7 @@ def run(args) -> int:
     print(f"{args.file} against {args.simulations} simulations of {args.model}")
     print_wrapped(f"model: {model.describe()}")
     print_wrapped("operators (on both): " + "; ".join(result.operators))
-    for note in result.notes:
+    for note in (*((spacing_note,) if spacing_note else ()), *result.notes):
         print_wrapped(f"note: {note}")
     print(f"  {'':5} {'measured':>11} {'sim. min':>11} {'median':>11} {'sim. max':>11} "
           f"{'rank':>8}")

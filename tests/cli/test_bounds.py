@@ -200,3 +200,48 @@ def test_fill_help_names_nanofocus_for_nms(capsys):
     assert main(["fill", "--help"]) == 0
     out = capsys.readouterr().out
     assert "NanoFocus .nms" in out and "Nanosurf" not in out
+
+
+@pytest.fixture(scope="module")
+def profile_model(tmp_path_factory):
+    """A two-column profile (x at 0.5 um) and a profile model fitted to it."""
+    folder = tmp_path_factory.mktemp("profile-model")
+    x = np.arange(512) * 0.5
+    z = np.sin(x) + 0.3 * np.random.default_rng(0).standard_normal(512)
+    profile = folder / "profile.csv"
+    np.savetxt(profile, np.column_stack((x, z)), delimiter=",")
+    model = folder / "pm.json"
+    assert main(["fit", "profile", str(profile), "--mixtures", "2", "--seed", "0",
+                 "--out", str(model)]) == 0
+    return model, profile, z
+
+
+def test_a_profile_model_checks_a_two_column_profile_as_a_profile(capsys, profile_model):
+    model, profile, _ = profile_model
+    capsys.readouterr()
+    code, out, err = _run(capsys, "check", model, profile, "--simulations", 3)
+    assert code == 0, err
+    assert "simulating 3 profiles of 512 points" in err  # not a 512 x 2 surface
+    assert "Rq" in out and "Sq" not in out and "spacing" not in out  # 0.5 um, as fitted
+
+
+def test_a_profile_model_refuses_a_surface(capsys, profile_model, tmp_path):
+    model, _, _ = profile_model
+    surface = tmp_path / "s.npy"
+    np.save(surface, np.random.default_rng(1).standard_normal((32, 32)))
+    code, _, err = _run(capsys, "check", model, surface, "--simulations", 3)
+    assert code == 2 and "holds a surface (32 x 32 points)" in err and "profile model" in err
+
+
+def test_a_profile_without_its_spacing_is_checked_with_a_note_saying_so(capsys, profile_model,
+                                                                         tmp_path):
+    model, _, z = profile_model
+    one_column = tmp_path / "heights.csv"
+    np.savetxt(one_column, z)  # no x column: the spacing is assumed 1 um
+    code, out, err = _run(capsys, "check", model, one_column, "--simulations", 3)
+    assert code == 0, err
+    text = " ".join(out.split())  # the note is wrapped
+    assert "note: the file's spacing 1 um (assumed" in text and "model's 0.5 um" in text
+    code, out, _ = _run(capsys, "check", model, one_column, "--simulations", 3,
+                        "--spacing", 0.5)
+    assert code == 0 and "note: the file's spacing" not in out
