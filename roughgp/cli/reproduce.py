@@ -23,8 +23,12 @@ def add_parser(sub, formatter) -> None:
                                    "to stdout).\n\nexamples:\n"
                                    "  roughgp reproduce --list\n"
                                    "  roughgp reproduce --only eq5-duality --out ledger/")
-    p.add_argument("--full", action="store_true",
-                   help="use the paper's sizes (slower) instead of the quick defaults")
+    size = p.add_mutually_exclusive_group()
+    size.add_argument("--full", action="store_const", const=True, default=None,
+                      help="use the paper's sizes (slower) instead of the quick defaults "
+                           "(default: as ROUGHGP_FULL says, quick when it is unset)")
+    size.add_argument("--quick", dest="full", action="store_const", const=False,
+                      help="the quick sizes even when ROUGHGP_FULL=1")
     p.add_argument("--only", nargs="+", metavar="KEY",
                    help="run only these claims (see --list)")
     p.add_argument("--out", metavar="DIR",
@@ -40,7 +44,9 @@ def add_parser(sub, formatter) -> None:
 def run(args) -> int:
     """``roughgp reproduce``: run the claims ledger, print it, exit 1 on a regression."""
     from roughgp import ledger
+    from roughgp.common.settings import resolve_full
     from roughgp.ledger import stored
+    full = resolve_full(args.full)  # the one rule: --full / --quick, else ROUGHGP_FULL
     if args.list:
         for c in ledger.CLAIMS:
             print(f"{c.key}  ({c.where}; {c.verdict})")
@@ -63,7 +69,7 @@ def run(args) -> int:
     start = time.perf_counter()
     outcomes = None
     if args.reuse:
-        outcomes, why = stored.load(out, full=args.full)
+        outcomes, why = stored.load(out, full=full)
         err(f"reusing {why} in {out}" if outcomes is not None
             else f"--reuse: {why}; running the checks")
         if outcomes is not None and args.only:
@@ -71,7 +77,7 @@ def run(args) -> int:
             outcomes = [o for o in outcomes if o.claim.key in keep]
     reused = outcomes is not None
     if outcomes is None:
-        outcomes = ledger.run(full=args.full, only=args.only,
+        outcomes = ledger.run(full=full, only=args.only,
                               figures_dir=None if out is None else out / "figures",
                               progress=err)
     rows = [(o.claim.key, o.claim.verdict, o.status,
@@ -82,14 +88,14 @@ def run(args) -> int:
     regressed = [o.claim.key for o in outcomes if o.regressed]
     seconds = sum(o.seconds for o in outcomes) if reused else time.perf_counter() - start
     print(f"\n{len(outcomes)} claim(s) in {seconds:.1f} s"
-          f"{' (reused)' if reused else ''}{' (paper sizes)' if args.full else ''}: "
+          f"{' (reused)' if reused else ''}{' (paper sizes)' if full else ''}: "
           f"{len(outcomes) - len(regressed)} ok, {len(regressed)} regressed")
     if out is not None and not reused:
         if args.only:  # a partial run is not one that --reuse may report
             (out / stored.RUN_FILE).unlink(missing_ok=True)
             written = ", ".join(str(p) for p in ledger.write(outcomes, out))
         else:
-            run_file = stored.save(outcomes, out, full=args.full)
+            run_file = stored.save(outcomes, out, full=full)
             written = f"{out / 'ledger.md'}, {out / 'ledger.json'}, {run_file}"
         err(f"wrote {written} and the figures in {out / 'figures'}")
     if regressed:

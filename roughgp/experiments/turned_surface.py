@@ -30,6 +30,7 @@ import numpy as np
 
 from roughgp import sampling
 from roughgp.common.results_cache import persistent
+from roughgp.common.settings import pick
 from roughgp.gp import kernels
 from roughgp.gp.noise import GaussianNoise
 from roughgp.inference import fitting
@@ -209,9 +210,10 @@ def measure_flaw(surfaces, feed, spacing=SPACING, n_periods=N_PERIODS) -> FlawMe
     return FlawMeasure(per, short, np.array(surfaces[:3]), cutoff)
 
 
-def n_simulations(full) -> int:
-    """Simulated surfaces per model: 40 at the full size, 8 quick."""
-    return 40 if full else 8
+def n_simulations(full=None) -> int:
+    """Simulated surfaces per model: 40 at the full size, 8 quick
+    (:func:`roughgp.common.settings.pick`)."""
+    return pick(8, 40, full=full)
 
 
 def _simulate_and_measure(fits, fit_across, n, seed):
@@ -234,12 +236,13 @@ def _careful_flaw(shape, q, seed, n):
     return dataclasses.replace(result, fits=fits, careful=careful)
 
 
-def turned_surface_flaw(full=False, *, shape=SHAPE, q=Q, seed=SEED, careful=False,
+def turned_surface_flaw(full=None, *, shape=SHAPE, q=Q, seed=SEED, careful=False,
                         n_sim=None) -> TurnedSurfaceFlaw:
     """Figure 7: simulate from :func:`fit_turned_surface`'s fits and measure the flaw.
 
     Args:
-        full: 40 simulated surfaces per model, else 8 (overridden by ``n_sim``).
+        full: 40 simulated surfaces per model, else 8 (overridden by ``n_sim``); None: as
+            ``ROUGHGP_FULL`` says (:func:`roughgp.common.settings.resolve_full`).
         shape, q, seed: as for :func:`fit_turned_surface`; the simulations are seeded by
             ``seed + 1`` (latent) and ``seed + 2`` (noise), the same for both models.
         careful: also simulate with the careful fit across the feed (``careful``).

@@ -7,6 +7,7 @@ import math
 import numpy as np
 
 from roughgp.common.plotting import row_of_axes
+from roughgp.common.settings import pick
 from roughgp.ledger.types import Check
 
 __all__ = ["check_sampling", "check_non_gaussian", "check_prescribed", "check_gap_filling", "check_device", "check_long_correlation"]
@@ -25,7 +26,7 @@ def check_sampling(full):
     model = posterior.PosteriorModel(
         (posterior.Parameter("variance", posterior.LogUniform(1e-4, 1e4)),),
         posterior.profile_likelihood(z, 1.0, lambda p, lags: p["variance"] * (lags == 0)))
-    result = posterior.sample_posterior(model, n_walkers=12, n_steps=10000 if full else 2500,
+    result = posterior.sample_posterior(model, n_walkers=12, n_steps=pick(2500, 10000, full=full),
                                         seed=3)
     exact = stats.invgamma(z.size / 2, scale=float(np.sum(z * z)) / 2)
     ess = result.samples["variance"].size / result.autocorr_time["variance"]
@@ -64,7 +65,7 @@ def check_prescribed(full):
     goal = targets.RoughnessTargets(Sq=0.3, Sal=6.0, Str=0.1, Std=-20.0)
     noise = goal.Sq ** 2 * 0.1 / 1.1                        # sigma^2 / sigma_k^2 = 1/10
     h = targets.hyperparameters_for(**goal.as_dict(), noise_variance=noise)
-    n = 20 if full else 5
+    n = pick(5, 20, full=full)
     values = targets.achieved_parameters(h, (512, 512), seeds=range(100, 100 + n))
     summary = targets.summarize(values)
     verdicts = target_verdicts(goal, values, targets.sq_prediction(h, (512, 512)))
@@ -82,7 +83,7 @@ def check_gap_filling(full):
     chapter's window, and the coverage of +-2 posterior sd. 128 x 128 (full: 256 x 256, the
     chapter's quick size)."""
     from roughgp.experiments.gap_filling import compare_gap_filling
-    result = compare_gap_filling(256 if full else 128)
+    result = compare_gap_filling(pick(128, 256, full=full))
     rmse, window, inside = result.rmse, result.window_rmse, result.coverage
     holds = (all(f.converged for f in result.fills.values())
              and window["GP"]["all"] < window["linear"]["all"]
@@ -167,7 +168,7 @@ def check_long_correlation(full):
     lambda_a, the grid-size FFT filter and circulant embedding (an FFT filter on a larger
     torus). The 1-D side (AR(1) is the exponential of any length) is the chapter arma's."""
     from roughgp.experiments import long_correlation
-    orders = long_correlation.FULL_ORDERS if full else long_correlation.ORDERS
+    orders = pick(long_correlation.ORDERS, long_correlation.FULL_ORDERS, full=full)
     result = long_correlation.long_correlation_2d(orders=orders)
     quarter, half = result.best("quarter"), result.best("half")
     short = result.short_fits["half", max(orders)]

@@ -14,6 +14,7 @@ import functools
 import numpy as np
 
 from roughgp.common.plotting import row_of_axes
+from roughgp.common.settings import pick, resolve_full
 from roughgp.ledger.types import Check
 
 __all__ = ["check_land_lay", "check_land_model", "check_measured_fill"]
@@ -49,7 +50,7 @@ def check_land_model(full):
     from roughgp.beyond.measured.check import plot_model_check
     from roughgp.experiments import measured_surfaces as ms
     land, fit = _land_fit(0)
-    n = 19 if full else QUICK_SIMULATIONS
+    n = pick(QUICK_SIMULATIONS, 19, full=full)
     check = ms.land_check(land, fit, n_simulations=n, seed=0)
     by_name = {p.name: p for p in check.parameters}
     sku, std, str_ = by_name["Sku"], by_name["Std"], by_name["Str"]
@@ -75,7 +76,7 @@ def check_measured_fill(full):
     points; full: the chapter's four files with its verdicts
     (:func:`~roughgp.experiments.measured_surfaces.fill_verdicts`)."""
     from roughgp.experiments import measured_surfaces as ms
-    if full:
+    if resolve_full(full):
         cvs = {name: ms.cross_validated_fill(name, form=form, seed=0)
                for name, form in ms.CV_FILES.items()}
         holds = all(ms.fill_verdicts(cvs).values())

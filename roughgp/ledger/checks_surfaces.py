@@ -7,6 +7,7 @@ import math
 import numpy as np
 
 from roughgp.common.plotting import row_of_axes
+from roughgp.common.settings import pick, resolve_full
 from roughgp.ledger.types import Check
 
 __all__ = ["check_figure2_simulation", "check_figure2_acvf", "check_error_values", "check_error_comparable", "check_crosshatch", "check_plateau"]
@@ -64,7 +65,7 @@ def check_error_values(full):
             + "; ".join(f"{r.label} {r.expected:.3f}" for r in nearest))
     consistent = abs(table[0].expected - setup.expected) < 1e-6 * setup.expected
     holds = setup.paper_ratio > 3 and consistent and min(r.ratio for r in stated) > 3
-    if full:
+    if resolve_full(full):
         drawn = surface_errors.cholesky_errors(setup).error
         text += f"; one Cholesky experiment: {drawn:.3f}"
         holds = holds and drawn > 3 * paper["cholesky"]
@@ -112,7 +113,7 @@ def check_crosshatch(full):
     faint: step 1's lambda_a = 500 leaves few grooves on 512 points)."""
     from roughgp.experiments import honed
     result = honed.figure3()
-    seeds = honed.crosshatch_over_seeds(20 if full else 8)
+    seeds = honed.crosshatch_over_seeds(pick(8, 20, full=full))
     c = result.crosshatch
     holds = bool(np.all(np.abs(seeds.offsets) <= 3) and min(seeds.median_ratios) > 10)
     fig, axes = row_of_axes(2, width=4.4, height=3.6)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from roughgp.common.plotting import row_of_axes
+from roughgp.common.settings import pick
 from roughgp.ledger.types import Check
 
 __all__ = ["check_periodicity", "check_multimodal", "check_dales_hills", "check_flaw", "check_flaw_cause"]
@@ -13,7 +14,7 @@ __all__ = ["check_periodicity", "check_multimodal", "check_dales_hills", "check_
 
 def _profile_fit(full):
     from roughgp.experiments import turned_profile
-    return turned_profile.figure5_fit(8192 if full else 4096)
+    return turned_profile.figure5_fit(pick(4096, 8192, full=full))
 
 
 def check_periodicity(full):
@@ -36,7 +37,7 @@ def check_multimodal(full):
 def check_dales_hills(full):
     """Figure 5: the simulations show the data's wide dales and narrow hills."""
     from roughgp.experiments import turned_profile
-    sims = turned_profile.figure5_simulations(_profile_fit(full), 200 if full else 40)
+    sims = turned_profile.figure5_simulations(_profile_fit(full), pick(40, 200, full=full))
     rsk, data_rsk = sims.values["Rsk"], sims.measured["Rsk"]
     lo, hi = sims.ranges["Rsk"]
     fig, (ax,) = row_of_axes()
