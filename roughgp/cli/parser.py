@@ -72,9 +72,13 @@ def add_input_options(parser, *, kind=True,
                         help=f"the data channel of an instrument file with several, "
                              f"{bounds_text('--channel')} (default 0)")
     parser.add_argument("--unit", choices=("m", "mm", "um", "nm"), metavar="U",
-                        help="the length unit of an instrument file (m, mm, um, nm), where it "
-                             "states none or states it wrong; refused for .npy, .x3p and "
-                             "text files, whose unit is fixed")
+                        help="the unit of the file's numbers (m, mm, um, nm), converted to "
+                             "um and reported as '(as given)': for a .npy or text file the "
+                             "heights' unit (default um; it replaces a header's '# Value "
+                             "units:' or column unit; x columns and --spacing stay in um); for "
+                             "an instrument file the unit of its heights and spacing, replacing "
+                             "the one it states (for a file that states none or states it "
+                             "wrong); refused for .x3p, which stores metres")
 
 
 
