@@ -22,7 +22,7 @@ from roughgp.cli.output import (
     print_wrapped,
     write_json,
 )
-from roughgp.metrology.writers import atomic_output
+from roughgp.common.atomic import atomic_output
 
 __all__ = ['add_parser', 'run']
 

@@ -13,7 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from roughgp.metrology.writers import atomic_output, check_write_format
+from roughgp.common.atomic import atomic_output
+from roughgp.metrology.writers import check_write_format
 
 __all__ = ["UsageError", "WIDTH", "err", "show_warning", "wrap", "print_wrapped", "table",
            "write_json", "check_output", "check_outputs", "add_force_option",
@@ -185,7 +186,7 @@ def check_outputs(*outputs, inputs=(), force=False) -> list:
     existing file without ``force`` (``--force``), and a place that cannot be written: the
     nearest existing folder above the file must be a writable directory. Missing folders
     are made when the file is written, by every command alike. Each file is then written
-    whole or not at all (:func:`roughgp.metrology.writers.atomic_output`) and the command
+    whole or not at all (:func:`roughgp.common.atomic.atomic_output`) and the command
     says ``wrote PATH`` with this path.
     Returns the paths (None for an option not given), in order.
     """

@@ -4,21 +4,19 @@
 reads back: a profile as x, z columns, a surface one row per y, the spacing in a comment) and
 ``.x3p`` (ISO 25178-72, through :func:`roughgp.metrology.x3p.write_x3p`).
 
-Every file is written whole or not at all (:func:`atomic_output`): into a temporary file in
-the same folder, renamed to its name once complete, so an interrupted write (Ctrl-C, a full
-disk, an error) leaves no partial file and an existing file as it was. The file written is
+Every file is written whole or not at all (:func:`roughgp.common.atomic.atomic_output`): into
+a temporary file in the same folder, renamed to its name once complete, so an interrupted
+write (Ctrl-C, a full disk, an error) leaves no partial file and an existing file as it was. The file written is
 the one named: a ``.npy`` is never given a second extension (``H.NPY`` stays ``H.NPY``).
 """
 
 from __future__ import annotations
 
-import contextlib
-import os
-import secrets
 from pathlib import Path
 
 import numpy as np
 
+from roughgp.common.atomic import atomic_output
 from roughgp.metrology.x3p import write_x3p
 
 __all__ = ["WRITE_FORMATS", "atomic_output", "check_write_format", "write_heights"]
@@ -39,26 +37,6 @@ def check_write_format(path) -> Path:
     if path.is_dir():
         raise ValueError(f"{path} is a directory; give a file name")
     return path
-
-
-@contextlib.contextmanager
-def atomic_output(path):
-    """Write ``path`` whole or not at all: yields a temporary path in the same folder (a
-    hidden name ending in ``.partial`` plus ``path``'s extension, for writers that pick the
-    format by it); when the block ends normally the temporary file is renamed to ``path``
-    (``os.replace``: atomic on one file system), when it raises (KeyboardInterrupt too) the
-    temporary file is removed and ``path`` is left as it was. Missing folders are made.
-    """
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    partial = path.parent / f".{path.name}.{secrets.token_hex(4)}.partial{path.suffix}"
-    try:
-        yield partial
-        os.replace(partial, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            partial.unlink()
-        raise
 
 
 def _kept(source, spread: bool = False) -> dict:

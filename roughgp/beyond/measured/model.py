@@ -57,6 +57,7 @@ from roughgp.beyond.measured.schema import (
     check_fields,
     validate_record,
 )
+from roughgp.common.atomic import atomic_output
 from roughgp.common.checks import as_generator
 from roughgp.common.grid import normalize
 from roughgp.gp.noise import GaussianNoise
@@ -214,8 +215,13 @@ class FittedModel:
         return cls(**validate_record(values, source))
 
     def save(self, path) -> Path:
+        """Write the model file whole or not at all (:func:`roughgp.common.atomic.atomic_output`:
+        a temporary file renamed over ``path``; an interrupted save leaves ``path`` as it was).
+        Missing folders are made. Returns ``path``."""
         path = Path(path)
-        path.write_text(json.dumps(self.to_dict(), indent=2, allow_nan=True) + "\n")
+        text = json.dumps(self.to_dict(), indent=2, allow_nan=True) + "\n"
+        with atomic_output(path) as partial:
+            partial.write_text(text)
         return path
 
     @classmethod
