@@ -5,12 +5,14 @@ Chapters call :func:`use_style` once; every helper takes an ``ax`` and labels it
 
 from __future__ import annotations
 
+import re
 from importlib.resources import files
 
 import matplotlib.pyplot as plt
 import numpy as np
 
-__all__ = ["use_style", "STYLE", "PAGE_WIDTH_PX", "MIN_FONT_PT", "font_sizes_on_page", "row_of_axes",
+__all__ = ["use_style", "STYLE", "PAGE_WIDTH_PX", "MIN_FONT_PT", "PAGE_TEXT_PT", "font_sizes_on_page",
+           "page_text_problems", "row_of_axes",
            "image", "compare_curves", "acvf_figure", "surface_figure"]
 
 STYLE = str(files("roughgp.common") / "roughgp.mplstyle")
@@ -25,14 +27,50 @@ MIN_FONT_PT = 9.0
 """The smallest text size on the page (CSS points) that the book's figures allow."""
 
 
+PAGE_TEXT_PT = 11.0
+"""The book's rule for a chapter's figures: every text (ticks, labels, titles, legends,
+colour bars, annotations) at least this size on the page, lengths in µm
+(:func:`page_text_problems`). A figure at most 6.5 in wide (the text column at the style's
+110 dpi) keeps the style's 10-11 pt text at 11.5-12.6 pt; a wider one is shrunk with its text."""
+
+
+def _to_page(fig, page_width_px=PAGE_WIDTH_PX) -> float:
+    """CSS points on the page per point of ``fig``'s text."""
+    shrink = min(1.0, page_width_px / (fig.get_figwidth() * fig.dpi))
+    return fig.dpi / 72.0 * shrink * 0.75
+
+
+_UM = re.compile(r"\bum\b")
+
+
+def page_text_problems(fig, min_pt=PAGE_TEXT_PT, page_width_px=PAGE_WIDTH_PX) -> list[str]:
+    """What breaks the book's rule (:data:`PAGE_TEXT_PT`) in ``fig``: each visible text smaller
+    than ``min_pt`` CSS points on the page (as :func:`font_sizes_on_page` measures, but every
+    text of the figure: legends, colour bars and annotations too), and each that writes a
+    length in ``um`` instead of µm. An empty list when the figure keeps the rule."""
+    import matplotlib.text
+
+    fig.canvas.draw()
+    scale = _to_page(fig, page_width_px)
+    problems = []
+    for text in fig.findobj(matplotlib.text.Text):
+        words = text.get_text()
+        if not words.strip() or not text.get_visible():
+            continue
+        size = text.get_fontsize() * scale
+        if size < min_pt - 1e-9:
+            problems.append(f"{words!r}: {size:.1f} pt on the page (< {min_pt:g})")
+        if _UM.search(words):
+            problems.append(f"{words!r}: lengths in µm, not um")
+    return problems
+
+
 def font_sizes_on_page(fig, page_width_px=PAGE_WIDTH_PX):
     """The sizes (CSS points, 1 pt = 4/3 px) at which the tick labels, axis labels and titles of
     ``fig`` appear on the book's page: the notebook shows a figure at ``fig.dpi`` pixels per
     inch, shrunk to the text column when wider (``page_width_px``). Returns
     ``{"ticks": smallest, "labels": smallest, "titles": smallest}`` over the visible axes."""
-    width_px = fig.get_figwidth() * fig.dpi
-    shrink = min(1.0, page_width_px / width_px)
-    to_page = fig.dpi / 72.0 * shrink * 0.75          # figure points -> CSS points on the page
+    to_page = _to_page(fig, page_width_px)  # figure points -> CSS points on the page
     sizes = {"ticks": [], "labels": [], "titles": []}
     fig.canvas.draw()
     for ax in fig.axes:

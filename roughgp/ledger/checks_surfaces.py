@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import math
 
+import matplotlib.pyplot as plt
 import numpy as np
 
-from roughgp.common.plotting import row_of_axes
+from roughgp.common.plotting import STYLE, row_of_axes
 from roughgp.common.settings import pick, resolve_full
 from roughgp.ledger.types import Check
 
@@ -73,24 +74,30 @@ def check_error_values(full):
 
 
 def _readings_figure(table, setup, paper):
-    """The readings as a table of bars: expected error, the paper's two values as lines."""
-    fig, (ax,) = row_of_axes(width=8.0, height=0.32 * len(table) + 1.2)
-    stated = [r.variance == setup.parameters.variance and r.n_draws == setup.n_draws
-              for r in table]
-    y = np.arange(len(table))[::-1]
-    ax.barh(y, [r.expected for r in table], color=["C0" if s else "C2" for s in stated])
-    for yi, r in zip(y, table):
-        ax.text(r.expected, yi, f" {r.expected:.3f} ({r.ratio:.2f}x)", va="center", fontsize=7)
-    ax.set_yticks(y, [f"{r.label} [sigma_k^2 {r.variance:g}, {r.n_draws} draws]"
-                      for r in table], fontsize=7)
-    ax.axvline(paper["cholesky"], color="C3", ls="--", label="paper, Cholesky 0.2536")
-    ax.axvline(paper["lanczos"], color="C3", ls=":", label="paper, Lanczos 0.2763")
-    ax.set(xlabel="expected mean |S_ij - R_ij| of an exact sampler (height^2)",
-           title="section 3.1: the readings tried (blue: the stated sigma_k^2 and draws)",
-           xlim=(0, 1.25 * max(r.expected for r in table)))
-    ax.legend(fontsize=7, loc="lower right")
-    ax.grid(False, axis="y")
-    fig.tight_layout()
+    """The readings as a table of bars: expected error, the paper's two values as lines; each
+    reading's name written above its bar (the book's style: text >= 11 pt on the page, at the
+    text column's 6.5 in)."""
+    with plt.style.context(STYLE):
+        fig, (ax,) = row_of_axes(width=6.5, height=0.55 * len(table) + 1.4)
+        stated = [r.variance == setup.parameters.variance and r.n_draws == setup.n_draws
+                  for r in table]
+        y = np.arange(len(table))[::-1]
+        ax.barh(y, [r.expected for r in table], height=0.4,
+                color=["C0" if s else "C2" for s in stated])
+        for yi, r in zip(y, table):
+            name = (r.label.replace("sigma_k^2", "σ_k²").replace("sigma^2", "σ²")
+                    .replace("lambda", "λ"))
+            ax.text(0, yi + 0.25, f"{name} (σ_k² {r.variance:g}, {r.n_draws} draws)",
+                    va="bottom")
+            ax.text(r.expected, yi, f" {r.expected:.3f} ({r.ratio:.2f}x)", va="center")
+        ax.set_yticks([])
+        ax.axvline(paper["cholesky"], color="C3", ls="--", label="paper, Cholesky 0.2536")
+        ax.axvline(paper["lanczos"], color="C3", ls=":", label="paper, Lanczos 0.2763")
+        ax.set(xlabel="expected mean |S_ij - R_ij| of an exact sampler (height²)",
+               title="section 3.1: the readings tried (blue: the stated σ_k² and draws)",
+               xlim=(0, 1.45 * max(r.expected for r in table)), ylim=(-0.6, len(table) - 0.2))
+        ax.legend(loc="upper right")
+        ax.grid(False, axis="y")
     return fig
 
 

@@ -73,3 +73,20 @@ def test_the_chapters_figure_helpers_are_readable():
         sizes = plotting.font_sizes_on_page(fig)
         assert min(v for v in sizes.values() if v is not None) >= plotting.MIN_FONT_PT, sizes
     plt.close("all")
+
+
+def test_page_text_problems_says_no_to_small_shrunk_or_um_text_and_yes_to_the_rule():
+    plotting.use_style()
+    good = _figure(6.4)
+    good.axes[0].plot([0, 1], [1, 0], label="a legend")
+    good.axes[0].legend()
+    assert plotting.page_text_problems(good) == []
+    small = _figure(6.4)
+    small.axes[0].legend(["x"], fontsize=8)
+    assert any("'x'" in p and "pt on the page" in p for p in plotting.page_text_problems(small))
+    shrunk = plotting.page_text_problems(_figure(9.0))  # 11 pt shrunk to about 9.2 pt
+    assert shrunk and all("pt on the page" in p for p in shrunk)
+    um = _figure(6.4)
+    um.axes[0].set_xlabel("x (um)")
+    assert plotting.page_text_problems(um) == ["'x (um)': lengths in µm, not um"]
+    plt.close("all")
