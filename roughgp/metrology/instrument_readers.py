@@ -65,8 +65,10 @@ class _DeferredPackage(types.ModuleType):
             raise AttributeError(name)
         state["_roughgp_running"] = True
         self.__class__ = types.ModuleType  # from now on an ordinary module
-        self.__spec__.loader.exec_module(self)
-        del state["_roughgp_running"]
+        try:
+            self.__spec__.loader.exec_module(self)
+        finally:
+            del state["_roughgp_running"]
         return getattr(self, name)
 
 
