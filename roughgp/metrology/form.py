@@ -25,7 +25,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from roughgp.common.checks import check_integer, height_map
 from roughgp.common.grid import normalize
@@ -178,6 +177,8 @@ def _fit_cylinder(z, s_axis, t_axis, circle=False):
         p = start.copy()
         p[free] = q
         return _radial(p, s, t, h, convex)
+
+    from scipy.optimize import least_squares  # here: 0.2-0.5 s a plane or polynomial skips
 
     fit = least_squares(distances, start[free], x_scale=scale[free], method="lm")
     p = start.copy()
