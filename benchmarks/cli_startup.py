@@ -10,6 +10,7 @@ with the seconds their imports took. Not a test: run it by hand at the repositor
 
     python benchmarks/cli_startup.py                 # 5 repeats of each case
     python benchmarks/cli_startup.py --repeats 11
+    python benchmarks/cli_startup.py --against /tmp/base   # another revision, side by side
 
 ``SurfaceTopography`` in the last column is its whole package (all readers, pandas,
 matplotlib, ...); ``SurfaceTopography.IO.Reader`` alone is the one-reader path of
@@ -52,15 +53,15 @@ def _command(arguments, tmp) -> list[str]:
             *(a.replace("{tmp}", str(tmp)) for a in arguments)]
 
 
-def _environment() -> dict:
-    return {**os.environ, "PYTHONPATH": str(ROOT), "OMP_NUM_THREADS": "1"}
+def _environment(root=ROOT) -> dict:
+    return {**os.environ, "PYTHONPATH": str(root), "OMP_NUM_THREADS": "1"}
 
 
-def wall_time(arguments, tmp) -> tuple[float, float | None]:
+def wall_time(arguments, tmp, root=ROOT) -> tuple[float, float | None]:
     """Seconds the command takes, start to exit, and the draw's own seconds where it prints
     them (``simulate``: "drawn in X s"); raises if it fails."""
     start = time.perf_counter()
-    done = subprocess.run(_command(arguments, tmp), cwd=ROOT, env=_environment(), check=True,
+    done = subprocess.run(_command(arguments, tmp), cwd=root, env=_environment(root), check=True,
                           stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     seconds = time.perf_counter() - start
     drawn = re.search(r"drawn in ([0-9.]+) s", done.stderr)
@@ -86,14 +87,24 @@ def heavy_imports(arguments, tmp) -> dict:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--repeats", type=int, default=5, help="runs of each case (default 5)")
+    parser.add_argument("--against", metavar="DIR",
+                        help="also time another revision's tree (its roughgp/ and data/, e.g. "
+                             "git archive b6154c1 roughgp data | tar -x -C DIR), its runs "
+                             "interleaved with these so that both see the same load")
     args = parser.parse_args(argv)
+    if args.against is not None and not (Path(args.against) / "roughgp").is_dir():
+        parser.error(f"--against {args.against}: no roughgp/ folder there")
     import tempfile
     with tempfile.TemporaryDirectory() as tmp:
         print(f"python {sys.version.split()[0]}, {os.cpu_count()} cores, load average "
               f"{os.getloadavg()[0]:.2f}; {args.repeats} runs per case")
         print(f"{'command':<52} {'fastest':>8} {'median':>8} {'target':>7}  heavy imports (s)")
         for arguments, target in CASES:
-            runs = [wall_time(arguments, tmp) for _ in range(args.repeats)]
+            runs, others = [], []
+            for _ in range(args.repeats):
+                runs.append(wall_time(arguments, tmp))
+                if args.against is not None:
+                    others.append(wall_time(arguments, tmp, Path(args.against).resolve()))
             times = [seconds for seconds, _ in runs]
             drawn = [d for _, d in runs if d is not None]
             heavy = heavy_imports(arguments, tmp)
@@ -104,6 +115,12 @@ def main(argv=None) -> int:
             imports = ", ".join(f"{k} {v:.2f}" for k, v in heavy.items()) or "none"
             print(f"{label[:52]:<52} {min(times):>7.2f}s {statistics.median(times):>7.2f}s "
                   f"{target:>6.1f}s  {verdict}; {imports}")
+            if others:
+                seconds = [t for t, _ in others]
+                drawn = [d for _, d in others if d is not None]
+                draw = f" (the draw: fastest {min(drawn):.2f}s)" if drawn else ""
+                print(f"{'  the same, ' + args.against:<52} {min(seconds):>7.2f}s "
+                      f"{statistics.median(seconds):>7.2f}s{draw}")
     return 0
 
 
