@@ -11,9 +11,9 @@ from importlib.resources import files
 import matplotlib.pyplot as plt
 import numpy as np
 
-__all__ = ["use_style", "STYLE", "PAGE_WIDTH_PX", "MIN_FONT_PT", "PAGE_TEXT_PT", "font_sizes_on_page",
-           "page_text_problems", "row_of_axes",
-           "image", "compare_curves", "acvf_figure", "surface_figure"]
+__all__ = ["use_style", "STYLE", "PAGE_WIDTH_PX", "MIN_FONT_PT", "PAGE_TEXT_PT",
+           "font_sizes_on_page", "page_text_problems", "row_of_axes", "image", "compare_curves",
+           "acvf_figure", "surface_figure"]
 
 STYLE = str(files("roughgp.common") / "roughgp.mplstyle")
 """Path of the book's matplotlib style file."""

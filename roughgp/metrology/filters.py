@@ -27,7 +27,8 @@
   S-filter, L-filter, with a list of the operators applied.
 
 Implemented with FFT convolution along each axis
-(:func:`roughgp.common.convolution.convolve_same`): a 1000 x 1000 surface with a 0.8 mm cut-off at 1 um spacing filters in well under a second.
+(:func:`roughgp.common.convolution.convolve_same`): a 1000 x 1000 surface with a 0.8 mm
+cut-off at 1 um spacing filters in well under a second.
 Lengths (spacing, cut-offs) share one unit, micrometres in roughgp.
 """
 

@@ -6,8 +6,9 @@ reads back: a profile as x, z columns, a surface one row per y, the spacing in a
 
 Every file is written whole or not at all (:func:`roughgp.common.atomic.atomic_output`): into
 a temporary file in the same folder, renamed to its name once complete, so an interrupted
-write (Ctrl-C, a full disk, an error) leaves no partial file and an existing file as it was. The file written is
-the one named: a ``.npy`` is never given a second extension (``H.NPY`` stays ``H.NPY``).
+write (Ctrl-C, a full disk, an error) leaves no partial file and an existing file as it was.
+The file written is the one named: a ``.npy`` is never given a second extension (``H.NPY``
+stays ``H.NPY``).
 """
 
 from __future__ import annotations
