@@ -46,7 +46,7 @@ from roughgp.metrology.measurement import read_measurement
 
 __all__ = ["Rung", "RUNGS", "QUICK_FILES", "FORMS", "MAX_OUTSIDE", "TARGET_SHARE",
            "crop_size", "crop_window", "RungResult", "run_rung", "Ladder", "model_ladder",
-           "reasons", "plot_ladder", "TAILS", "AMPLITUDE", "SPATIAL"]
+           "reasons", "verdict_lines", "markdown_table", "plot_ladder", "TAILS", "AMPLITUDE", "SPATIAL"]
 
 #: a best rung "reproduces" a map when at most this many of the 13 parameters are outside
 MAX_OUTSIDE = 2
@@ -113,6 +113,7 @@ class RungResult:
         fit_seconds, check_seconds: wall times.
         description: the fitted model in one line, or the error where the rung failed.
         notes: what the fit's range check did (a bound, a cap).
+        recorded_reasons: :func:`reasons` as a recorded run kept them (no check kept).
     """
 
     file: str
@@ -126,10 +127,31 @@ class RungResult:
     check_seconds: float
     description: str
     notes: tuple = ()
+    recorded_reasons: tuple = ()
 
     @property
     def n_outside(self) -> int | None:
         return None if self.outside is None else len(self.outside)
+
+    def to_record(self) -> dict:
+        """A JSON-ready dict (the check left out, its :func:`reasons` kept as text)."""
+        return {"file": self.file, "rung": self.rung, "window": list(self.window),
+                "outside": None if self.outside is None else list(self.outside),
+                "rmse_ratio": self.rmse_ratio, "coverage": self.coverage,
+                "fit_seconds": self.fit_seconds, "check_seconds": self.check_seconds,
+                "description": self.description, "notes": list(self.notes),
+                "reasons": reasons(self)}
+
+    @classmethod
+    def from_record(cls, record) -> "RungResult":
+        """The result of :meth:`to_record` (without its check)."""
+        outside = record["outside"]
+        return cls(record["file"], record["rung"], tuple(record["window"]),
+                   None if outside is None else tuple(outside), None,
+                   float(record["rmse_ratio"]), float(record["coverage"]),
+                   float(record["fit_seconds"]), float(record["check_seconds"]),
+                   record["description"], tuple(record["notes"]),
+                   tuple(record.get("reasons", ())))
 
 
 def _held_out_score(model, z, spacing, held):
@@ -191,6 +213,15 @@ class Ladder:
     rungs: tuple
     size: int
     seconds: float
+
+    @classmethod
+    def from_records(cls, records, size, seconds=float("nan")) -> "Ladder":
+        """A ladder of :meth:`RungResult.to_record` records (a recorded run), files and rungs
+        in the order they come."""
+        results = tuple(RungResult.from_record(r) for r in records)
+        files = tuple(dict.fromkeys(r.file for r in results))
+        rungs = tuple(dict.fromkeys(r.rung for r in results))
+        return cls(results, files, rungs, int(size), float(seconds))
 
     def result(self, file, rung) -> RungResult:
         for r in self.results:
@@ -297,7 +328,9 @@ def reasons(result: RungResult) -> list:
     correlation the model's lengths do not describe). Empty when none is outside."""
     if result.outside is None:
         return [result.description]
-    by_name = {p.name: p for p in result.check.parameters}
+    if result.check is None and result.recorded_reasons:
+        return list(result.recorded_reasons)
+    by_name = {} if result.check is None else {p.name: p for p in result.check.parameters}
     said = []
     for group, lead, what in (
             (TAILS, "Sku", "the tails of the heights (spikes, pits, steps)"),
@@ -307,9 +340,52 @@ def reasons(result: RungResult) -> list:
                              "correlation lengths)")):
         out = [n for n in group if n in result.outside]
         if out:
-            shown = by_name[lead if lead in out else out[0]]
-            said.append(f"{what}: {', '.join(out)} ({_span(shown)})")
+            shown = by_name.get(lead if lead in out else out[0])
+            said.append(f"{what}: {', '.join(out)}" + (f" ({_span(shown)})" if shown else ""))
     return said
+
+
+def verdict_lines(ladder: Ladder) -> list:
+    """One sentence per file: its instrument, its best rung and what stays outside and why
+    (:func:`reasons`), and what the paper's eq 18 leaves outside."""
+    lines = []
+    for name in ladder.files:
+        best = ladder.best(name)
+        entry = real_file(name)
+        label = RUNGS[best.rung].label if best.rung in RUNGS else best.rung
+        text = f"`{name}` ({entry.technique}): "
+        if best.outside is None:
+            text += f"every model failed ({best.description})."
+        else:
+            why = reasons(best)
+            text += (f"best {label}, {best.n_outside} of 13 outside"
+                     + (f": {'; '.join(why)}." if why else "."))
+        if "eq18" in ladder.rungs and best.rung != "eq18":
+            paper = ladder.result(name, "eq18")
+            text += (" The paper's eq 18: " + ("failed." if paper.outside is None else
+                     f"{paper.n_outside} outside ({', '.join(paper.outside) or 'none'})."))
+        lines.append(text)
+    return lines
+
+
+def markdown_table(ladder: Ladder) -> str:
+    """The ladder as a Markdown table: per file, the count outside under each rung (the best
+    in bold), the parameters outside under the best and its held-out RMSE ratio."""
+    head = ["file", "instrument"] + [RUNGS[g].label if g in RUNGS else g
+                                     for g in ladder.rungs] + \
+        ["outside under the best", "held-out RMSE / linear (best)"]
+    rows = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for name in ladder.files:
+        best = ladder.best(name)
+        cells = [f"`{name}`", real_file(name).technique]
+        for rung in ladder.rungs:
+            r = ladder.result(name, rung)
+            cell = "failed" if r.outside is None else str(r.n_outside)
+            cells.append(f"**{cell}**" if r is best else cell)
+        cells.append("failed" if best.outside is None else ", ".join(best.outside) or "none")
+        cells.append(f"{best.rmse_ratio:.2f}")
+        rows.append("| " + " | ".join(cells) + " |")
+    return "\n".join(rows)
 
 
 def plot_ladder(ladder: Ladder, *, title=None):
