@@ -16,6 +16,7 @@ minutes per map for the four eq 18 rungs; 128 x 128 about 2.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import datetime
 import json
 import sys
@@ -34,8 +35,7 @@ def _paths(size):
 
 def write_report(command, seconds, size) -> None:
     records_path, report = _paths(size)
-    records = [json.loads(line) for line in records_path.read_text().splitlines() if line]
-    ladder = ml.Ladder.from_records(records, size, seconds)
+    ladder = dataclasses.replace(ml.recorded_ladder(records_path, size), seconds=seconds)
     lines = [f"# The ladder of models at full size ({datetime.date.today().isoformat()})", "",
              f"Command: `{command}`; {seconds:.0f} s of wall time for the last run (the "
              f"records may come from several runs: `{records_path.name}`), on the 2-core machine "

@@ -33,7 +33,9 @@ files on which it leaves at most :data:`MAX_OUTSIDE` of 13 outside, the issue's 
 from __future__ import annotations
 
 import dataclasses
+import json
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -45,7 +47,7 @@ from roughgp.experiments.real_maps import REAL_MAPS, real_file
 from roughgp.metrology.measurement import read_measurement
 
 __all__ = ["Rung", "RUNGS", "QUICK_FILES", "FORMS", "MAX_OUTSIDE", "TARGET_SHARE",
-           "crop_size", "crop_window", "RungResult", "run_rung", "Ladder", "model_ladder",
+           "crop_size", "crop_window", "RECORDED", "recorded_ladder", "RungResult", "run_rung", "Ladder", "model_ladder",
            "reasons", "verdict_lines", "markdown_table", "plot_ladder", "TAILS", "AMPLITUDE", "SPATIAL"]
 
 #: a best rung "reproduces" a map when at most this many of the 13 parameters are outside
@@ -271,6 +273,21 @@ class Ladder:
                          "held-out RMSE / linear": r.rmse_ratio,
                          "in ±2 sd": r.coverage, "fit (s)": r.fit_seconds, "best": best})
         return pd.DataFrame(rows)
+
+
+#: the records of a run on every map (``benchmarks/model_ladder_full.py --size 128``)
+RECORDED = Path(__file__).resolve().parents[2] / "benchmarks" / "results" / \
+    "model_ladder_full_128.jsonl"
+
+
+def recorded_ladder(path=RECORDED, size=128) -> Ladder:
+    """The :class:`Ladder` of a recorded run (JSON lines of :meth:`RungResult.to_record`), or
+    None where there is no such file."""
+    path = Path(path)
+    if not path.is_file():
+        return None
+    records = [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
+    return Ladder.from_records(records, size)
 
 
 def _crop(name, size):

@@ -4,6 +4,7 @@ answer is known, the failures kept, the best rung and the share, the reasons, th
 from __future__ import annotations
 
 import dataclasses
+import json
 import types
 
 import numpy as np
@@ -82,26 +83,42 @@ def _result(file, rung, n, ratio):
     return ml.RungResult(file, rung, (0, 0, 8, 8), outside, None, ratio, 0.95, 1.0, 1.0, "")
 
 
-def test_best_rung_and_share():
+A, B, C = "opd-1.opd", "di-3.di", "sample-land.x3p"
+
+
+def test_best_rung_and_share(tmp_path):
     rungs = tuple(ml.RUNGS)[:3]
-    results = (_result("a", rungs[0], 5, 0.8), _result("a", rungs[1], 1, 0.9),
-               _result("a", rungs[2], 1, 0.7),          # a tie broken by the held-out score
-               _result("b", rungs[0], 3, 0.8), _result("b", rungs[1], None, np.nan),
-               _result("b", rungs[2], 3, 0.8),          # a full tie: the simpler rung
-               _result("c", rungs[0], 0, np.nan), _result("c", rungs[1], 0, 0.9),
-               _result("c", rungs[2], 4, 0.5))
-    ladder = ml.Ladder(results, ("a", "b", "c"), rungs, 8, 1.0)
-    assert [ladder.best(f).rung for f in "abc"] == [rungs[2], rungs[0], rungs[1]]
-    assert ladder.reproduced() == ["a", "c"]
+    results = (_result(A, rungs[0], 5, 0.8), _result(A, rungs[1], 1, 0.9),
+               _result(A, rungs[2], 1, 0.7),          # a tie broken by the held-out score
+               _result(B, rungs[0], 3, 0.8), _result(B, rungs[1], None, np.nan),
+               _result(B, rungs[2], 3, 0.8),          # a full tie: the simpler rung
+               _result(C, rungs[0], 0, np.nan), _result(C, rungs[1], 0, 0.9),
+               _result(C, rungs[2], 4, 0.5))
+    ladder = ml.Ladder(results, (A, B, C), rungs, 8, 1.0)
+    assert [ladder.best(f).rung for f in (A, B, C)] == [rungs[2], rungs[0], rungs[1]]
+    assert ladder.reproduced() == [A, C]
     assert ladder.share_reproduced() == pytest.approx(2 / 3)
     assert ladder.share_reproduced(max_outside=3) == 1.0
     counts = ladder.counts()
-    assert counts.shape == (3, 3) and np.isnan(counts.loc["b", rungs[1]])
+    assert counts.shape == (3, 3) and np.isnan(counts.loc[B, rungs[1]])
     table = ladder.table()
     assert table["best"].sum() == 3 and len(table) == 9
     assert table.loc[4, "which"].startswith("failed")
     fig = ml.plot_ladder(ladder)
     assert fig.get_size_inches()[0] <= 8.8
+    # the records: written, read back, the same verdicts
+    path = tmp_path / "records.jsonl"
+    path.write_text("".join(json.dumps(r.to_record()) + "\n" for r in results))
+    again = ml.recorded_ladder(path, size=8)
+    assert again.files == ladder.files and again.rungs == ladder.rungs
+    assert [again.best(f).rung for f in again.files] == [ladder.best(f).rung
+                                                          for f in ladder.files]
+    assert ml.recorded_ladder(tmp_path / "none.jsonl") is None
+    lines = ml.verdict_lines(again)
+    assert len(lines) == 3 and lines[0].startswith("`opd-1.opd` (white-light")
+    assert "1 of 13 outside" in lines[0] and "The paper's eq 18: 5 outside" in lines[0]
+    table = ml.markdown_table(again).splitlines()
+    assert len(table) == 2 + 3 and "**1**" in table[2] and "| failed |" in table[3]
 
 
 def test_crop_window_and_bad_input():
