@@ -47,7 +47,7 @@ from roughgp.inference.fitting import MIN_POINTS, SpectralMixtureFit, fit_spectr
 from roughgp.metrology.filters import Texture, surface_texture
 
 __all__ = ["SurfaceModelFit", "ProfileModelFit", "fit_surface_model", "fit_profile_model",
-           "apply_operators", "rest_of_chain", "form_removed"]
+           "apply_operators", "rest_of_chain", "form_removed", "measured_chain"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -118,7 +118,7 @@ def _cutoffs(form, s, l, degree, axis):
     return {"form": form, "s_um": s, "l_um": l, "degree": degree, "axis": axis}
 
 
-def _chain(arr, spacing, form, s, l, degree, axis, stage):
+def measured_chain(arr, spacing, form, s, l, degree, axis, stage):
     """The measurement's chain (its cut-offs resolved), and the heights the model of ``stage``
     is fitted to: after F alone (``"form-removed"``) or after every operator."""
     if stage not in STAGES:
@@ -154,7 +154,7 @@ def fit_surface_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2,
         raise ValueError(f"z must be a surface z[iy, ix], got shape {arr.shape}")
     _, (dy, dx) = normalize(arr.shape, spacing)
     start = time.perf_counter()
-    texture, cutoffs, heights = _chain(arr, (dy, dx), form, s, l, degree, axis, stage)
+    texture, cutoffs, heights = measured_chain(arr, (dy, dx), form, s, l, degree, axis, stage)
     fit = fit_ground_to_valid_points(heights, spacing=(dy, dx), block=block, n_blocks=n_blocks,
                                      seed=seed, nu=nu)
     g = fit.groove
@@ -199,7 +199,7 @@ def fit_profile_model(z, spacing=1.0, *, form="plane", s=None, l=None, num_mixtu
         raise ValueError(f"the profile has {arr.size} points; the fit needs at least "
                          f"{MIN_POINTS}")
     start = time.perf_counter()
-    texture, cutoffs, heights = _chain(arr, dx, form, s, l, 2, "auto", stage)
+    texture, cutoffs, heights = measured_chain(arr, dx, form, s, l, 2, "auto", stage)
     x = np.arange(arr.size) * dx
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)

@@ -113,8 +113,14 @@ class FittedModel:
         return float(self.hyperparameters["noise_variance_um2"])
 
     def kernel(self):
-        """The fitted latent kernel (:mod:`roughgp.gp.kernels`), lengths in um."""
+        """The fitted latent kernel (:mod:`roughgp.gp.kernels`), lengths in um; for the
+        measured-psd model a function of lags ``(..., 2)`` in (x, y) order: the ACVF tabulated
+        by the inverse DFT of its PSD
+        (:class:`~roughgp.beyond.measured.psd_model.TabulatedACVF`)."""
         hp = self.hyperparameters
+        if self.equation == "measured-psd":
+            from roughgp.beyond.measured.psd_model import TabulatedACVF
+            return TabulatedACVF(self)
         if self.equation == "eq18-matern":
             from roughgp.gp.acvf import rotated_matern
             scales = np.array([hp["lambda_a_um"], hp["lambda_b_um"]], dtype=np.float64)
@@ -137,6 +143,9 @@ class FittedModel:
 
     def latent_variance(self) -> float:
         hp = self.hyperparameters
+        if self.equation == "measured-psd":
+            from roughgp.beyond.measured.psd_model import band_variance
+            return band_variance(self)
         if self.kind == "surface":
             return float(hp["variance_um2"])
         return float(np.sum(hp["weights_um2"]))
@@ -144,7 +153,12 @@ class FittedModel:
     def describe(self) -> str:
         """One line: the equation and its hyperparameters."""
         hp = self.hyperparameters
-        if self.kind == "surface":
+        if self.equation == "measured-psd":
+            rows = hp["psd_um4"]
+            text = (f"measured PSD ({len(rows)} x {len(rows[0])} log-polar table, "
+                    f"{hp['frequency_min_per_um']:.4g} to {hp['frequency_max_per_um']:.4g} 1/um), "
+                    f"variance {self.latent_variance():.4g} um^2")
+        elif self.kind == "surface":
             name = "eq 18" if self.equation == "eq18" else f"eq 18 with Matern nu = {hp['nu']:g}"
             text = (f"{name}: variance {hp['variance_um2']:.4g} um^2, lambda_a "
                     f"{hp['lambda_a_um']:.4g} um, lambda_b {hp['lambda_b_um']:.4g} um, angle "
@@ -181,16 +195,19 @@ class FittedModel:
                              f"{_MAX_SIMULATE_POINTS} (2**24): draw fewer or smaller surfaces")
         shape, spacing = normalize(shape, self.spacing if spacing is None else spacing)
         rng = as_generator(seed)
-        kernel = self.kernel()
-        if self.marginal is None:
-            latent = sample_grid(kernel, shape, spacing=spacing, n_samples=count, method=method,
+        if self.equation == "measured-psd":
+            from roughgp.beyond.measured.psd_model import draw_psd_model
+            latent = draw_psd_model(self, shape, spacing, rng, count)
+        elif self.marginal is None:
+            latent = sample_grid(self.kernel(), shape, spacing=spacing, n_samples=count,
+                                 method=method,
                                  seed=rng)
         else:
             from roughgp.beyond.non_gaussian import non_gaussian_surface
             w = self.latent_variance() / (self.latent_variance() + self.noise_variance)
             skew = float(self.marginal["skewness"]) / w ** 1.5
             kurt = 3.0 + (float(self.marginal["kurtosis"]) - 3.0) / w ** 2
-            latent, _ = non_gaussian_surface(kernel, shape, skewness=skew, kurtosis=kurt,
+            latent, _ = non_gaussian_surface(self.kernel(), shape, skewness=skew, kurtosis=kurt,
                                              spacing=spacing, seed=rng, n_samples=count,
                                              method="circulant" if method == "auto" else method)
         z = GaussianNoise(self.noise_variance).sample(latent, seed=rng)

@@ -32,7 +32,12 @@ EQUATIONS = {
                                 "noise_variance_um2", "nu")),
     "eq21": ("profile", ("weights_um2", "frequencies_per_um", "spectral_variances_per_um2",
                          "noise_variance_um2")),
+    "measured-psd": ("surface", ("psd_um4", "frequency_min_per_um", "frequency_max_per_um",
+                                 "noise_variance_um2")),
 }
+#: the log-polar PSD table's allowed size: radial bins, angular bins
+PSD_RADII = (4, 128)
+PSD_ANGLES = (1, 180)
 OPTIONAL_HYPERPARAMETERS = ("mean_um",)
 MAX_MIXTURES = 50
 MAX_DEPTH = 8
@@ -57,6 +62,9 @@ RANGES = {
     "s_um": (0.0, 1e9, False),
     "l_um": (0.0, 1e9, False),
     "degree": (0, 10, True),
+    "psd_um4": (0.0, 1e30, True),
+    "frequency_min_per_um": (0.0, 1e9, False),
+    "frequency_max_per_um": (0.0, 1e9, False),
 }
 _TOP = {"format", "version", "equation", "kind", "stage", "description", "hyperparameters",
         "spacing_um", "marginal", "operators", "cutoffs", "data", "fit", "roughgp_version"}
@@ -134,7 +142,9 @@ def check_fields(equation, hyperparameters, spacing, marginal, cutoffs, stage, o
     number("noise_variance_um2", hp["noise_variance_um2"])
     if "mean_um" in hp:
         number("mean_um", hp["mean_um"])
-    if kind == "surface":
+    if equation == "measured-psd":
+        _check_psd(hp)
+    elif kind == "surface":
         for name in ("variance_um2", "lambda_a_um", "lambda_b_um", "angle_deg"):
             number(name, hp[name])
         for name in ("lambda_a_um", "lambda_b_um"):
@@ -149,6 +159,10 @@ def check_fields(equation, hyperparameters, spacing, marginal, cutoffs, stage, o
         if len({len(v) for v in lists}) != 1:
             raise ModelFileError("weights_um2, frequencies_per_um and "
                                  "spectral_variances_per_um2 must have the same length")
+    if marginal is not None and equation == "measured-psd" and \
+            set(marginal) == {"skewness", "kurtosis"}:
+        raise ModelFileError("the Johnson marginal (skewness, kurtosis) is not available for the "
+                             "measured-psd model (its transform would change the measured PSD)")
     if marginal is not None:
         if not isinstance(marginal, dict) or set(marginal) != {"skewness", "kurtosis"}:
             raise ModelFileError(f"marginal must be null or {{\"skewness\": s, \"kurtosis\": k}}"
@@ -161,6 +175,32 @@ def check_fields(equation, hyperparameters, spacing, marginal, cutoffs, stage, o
             not all(isinstance(op, str) and len(op) <= 200 for op in operators):
         raise ModelFileError(f"operators must be a list of at most {MAX_OPERATORS} short "
                              f"strings, got {operators!r}")
+
+
+def _check_psd(hp):
+    """The measured-psd model's table: a list of ``PSD_RADII`` rows of ``PSD_ANGLES`` numbers
+    >= 0, not all 0, over frequencies ``frequency_min_per_um`` < ``frequency_max_per_um``."""
+    rows = hp["psd_um4"]
+    if not isinstance(rows, list) or not PSD_RADII[0] <= len(rows) <= PSD_RADII[1]:
+        raise ModelFileError(f"psd_um4 must be a list of {PSD_RADII[0]} to {PSD_RADII[1]} rows "
+                             f"(radial bins), got {type(rows).__name__}"
+                             + (f" of {len(rows)}" if isinstance(rows, list) else ""))
+    width = len(rows[0]) if isinstance(rows[0], list) else None
+    if width is None or not PSD_ANGLES[0] <= width <= PSD_ANGLES[1]:
+        raise ModelFileError(f"psd_um4 rows must be lists of {PSD_ANGLES[0]} to {PSD_ANGLES[1]} "
+                             f"numbers (angular bins), got {rows[0]!r:.60}")
+    total = 0.0
+    for i, row in enumerate(rows):
+        if not isinstance(row, list) or len(row) != width:
+            raise ModelFileError(f"psd_um4[{i}] must be a list of {width} numbers like row 0")
+        total += sum(number("psd_um4", v, where=f"psd_um4[{i}][{j}]") for j, v in enumerate(row))
+    if not total > 0:
+        raise ModelFileError("psd_um4 must hold at least one value > 0")
+    low = number("frequency_min_per_um", hp["frequency_min_per_um"])
+    high = number("frequency_max_per_um", hp["frequency_max_per_um"])
+    if not low < high:
+        raise ModelFileError(f"frequency_min_per_um must be smaller than frequency_max_per_um, "
+                             f"got {low:g} and {high:g}")
 
 
 def _check_cutoffs(cutoffs):
