@@ -114,6 +114,8 @@ def test_best_rung_and_share(tmp_path):
     assert [again.best(f).rung for f in again.files] == [ladder.best(f).rung
                                                           for f in ladder.files]
     assert ml.recorded_ladder(tmp_path / "none.jsonl") is None
+    path.write_text("".join(json.dumps(r.to_record()) + "\n" for r in results[:-1]))
+    assert ml.recorded_ladder(path, size=8).files == (A, B)   # C lacks a rung: left out
     lines = ml.verdict_lines(again)
     assert len(lines) == 3 and lines[0].startswith("`opd-1.opd` (white-light")
     assert "1 of 13 outside" in lines[0] and "The paper's eq 18: 5 outside" in lines[0]
