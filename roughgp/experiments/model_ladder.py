@@ -366,8 +366,8 @@ def _span(p, unit=True):
 
 def reasons(result: RungResult) -> list:
     """What the model of ``result`` misses, from which parameters stay outside, with the
-    measured value against the simulations' range of one parameter of each group: the tails of
-    the heights (:data:`TAILS`: spikes, pits), the amplitude (:data:`AMPLITUDE`: a variance
+    measured value against the simulations' range of one parameter of each group: the height
+    distribution (:data:`TAILS`: spikes, pits, steps, plateaus), the amplitude (:data:`AMPLITUDE`: a variance
     the model's simulations do not reach, long wavelengths or a field that is not stationary),
     the spatial structure (:data:`SPATIAL`: a lay, periodic or structured texture, or a
     correlation the model's lengths do not describe). Empty when none is outside."""
@@ -378,9 +378,10 @@ def reasons(result: RungResult) -> list:
     by_name = {} if result.check is None else {p.name: p for p in result.check.parameters}
     said = []
     for group, lead, what in (
-            (TAILS, "Sku", "the tails of the heights (spikes, pits, steps)"),
-            (AMPLITUDE, "Sq", "the amplitude (long wavelengths or a field that is not "
-                              "stationary)"),
+            (TAILS, "Sku", "the height distribution (its tails and asymmetry: spikes, "
+                           "pits, steps, plateaus)"),
+            (AMPLITUDE, "Sq", "the amplitude (wavelengths longer than the fit sees, or a "
+                              "field that is not stationary)"),
             (SPATIAL, "Sal", "the spatial structure (lay, periodic or structured texture, "
                              "correlation lengths)")):
         out = [n for n in group if n in result.outside]
@@ -435,7 +436,8 @@ def markdown_table(ladder: Ladder) -> str:
 
 def plot_ladder(ladder: Ladder, *, title=None):
     """The heat map files x rungs of the parameters outside (of 13), each cell labelled with
-    its count, the best rung of each file framed. Returns the figure (8.8 in wide at most)."""
+    its count, the best rung of each file framed. Returns the figure (8.8 in wide, its text at
+    least 9 pt on the book's page: :func:`roughgp.common.plotting.font_sizes_on_page`)."""
     import matplotlib.pyplot as plt
     from matplotlib.patches import Rectangle
 
@@ -444,23 +446,25 @@ def plot_ladder(ladder: Ladder, *, title=None):
     use_style()
     counts = ladder.counts().to_numpy(dtype=float)
     n_files, n_rungs = counts.shape
-    fig, ax = plt.subplots(figsize=(min(8.8, 3.2 + 1.1 * n_rungs), 1.0 + 0.38 * n_files))
+    fig, ax = plt.subplots(figsize=(8.8, 1.6 + 0.42 * n_files))
     shown = np.ma.masked_invalid(counts)
     image = ax.imshow(shown, cmap="Reds", vmin=0, vmax=13, aspect="auto")
     for i in range(n_files):
         for j in range(n_rungs):
             text = "failed" if np.isnan(counts[i, j]) else f"{counts[i, j]:.0f}"
-            ax.text(j, i, text, ha="center", va="center", fontsize=10,
+            ax.text(j, i, text, ha="center", va="center", fontsize=11,
                     color="white" if counts[i, j] > 8 else "black")
         j = ladder.rungs.index(ladder.best(ladder.files[i]).rung)
-        ax.add_patch(Rectangle((j - 0.5, i - 0.5), 1, 1, fill=False, lw=2, color="tab:blue"))
-    ax.set_xticks(range(n_rungs), [RUNGS[g].label.replace(", ", ",\n") for g in ladder.rungs],
-                  fontsize=9)
-    ax.set_yticks(range(n_files), list(ladder.files), fontsize=9)
+        ax.add_patch(Rectangle((j - 0.5, i - 0.5), 1, 1, fill=False, lw=2.5, color="tab:blue"))
+    labels = [(RUNGS[g].label if g in RUNGS else g).replace(", ", ",\n").replace(" (", "\n(")
+              for g in ladder.rungs]
+    ax.set_xticks(range(n_rungs), labels, fontsize=11)
+    ax.set_yticks(range(n_files), list(ladder.files), fontsize=11)
     ax.tick_params(length=0)
+    ax.grid(False)
     bar = fig.colorbar(image, ax=ax, pad=0.02)
-    bar.set_label("parameters outside (of 13)", fontsize=10)
-    bar.ax.tick_params(labelsize=9)
+    bar.set_label("parameters outside (of 13)", fontsize=11)
+    bar.ax.tick_params(labelsize=11)
     ax.set_title(title or f"parameters outside 19 simulations; central {ladder.size} x "
-                 f"{ladder.size} points; the best model framed", fontsize=10)
+                 f"{ladder.size} points; the best model framed", fontsize=11)
     return fig

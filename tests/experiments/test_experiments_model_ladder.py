@@ -12,6 +12,7 @@ import pytest
 
 from roughgp.beyond.measured.check import SURFACE_PARAMETERS
 from roughgp.beyond.measured.model import FittedModel
+from roughgp.common import plotting
 from roughgp.experiments import model_ladder as ml
 
 SHAPE = (64, 64)
@@ -66,7 +67,7 @@ def test_spikes_put_the_tails_outside_the_gaussian_rung(measurement):
     spiky.flat[rng.choice(spiky.size, 12, replace=False)] += 8.0
     result = ml.run_rung(spiky, (1.0, 1.0), "eq18", seed=0)
     assert {"Sku", "Sp"} <= set(result.outside)
-    assert any(r.startswith("the tails") for r in ml.reasons(result))
+    assert any(r.startswith("the height distribution") for r in ml.reasons(result))
 
 
 def test_a_failed_fit_is_kept_with_its_error():
@@ -106,6 +107,8 @@ def test_best_rung_and_share(tmp_path):
     assert table.loc[4, "which"].startswith("failed")
     fig = ml.plot_ladder(ladder)
     assert fig.get_size_inches()[0] <= 8.8
+    sizes = plotting.font_sizes_on_page(fig)
+    assert min(v for v in sizes.values() if v is not None) >= plotting.MIN_FONT_PT
     # the records: written, read back, the same verdicts
     path = tmp_path / "records.jsonl"
     path.write_text("".join(json.dumps(r.to_record()) + "\n" for r in results))
