@@ -101,8 +101,8 @@ RUNGS = {rung.name: rung for rung in (
 )}
 
 
-#: the quick run's rungs: all but the Matérn ones (the slowest fits; never the best on the
-#: quick maps, measured on the recorded run of every map)
+#: the quick run's rungs: all but the Matérn ones (the slowest fits, and not the best on the
+#: quick maps; on smooth maps they are: the recorded run of every map)
 QUICK_RUNGS = tuple(name for name in RUNGS if not name.startswith("matern"))
 
 
@@ -275,6 +275,13 @@ class Ladder:
     def share_reproduced(self, max_outside=MAX_OUTSIDE) -> float:
         """The share of the files :meth:`reproduced`: the issue asks for >= 80 %."""
         return len(self.reproduced(max_outside)) / len(self.files)
+
+    def files_outside(self, rung=None) -> dict:
+        """``{parameter: number of files with it outside}`` under ``rung`` (a name; None: each
+        file's best rung), over the files where that rung ran."""
+        chosen = [self.best(f) if rung is None else self.result(f, rung) for f in self.files]
+        return {name: sum(name in r.outside for r in chosen if r.outside is not None)
+                for name in SURFACE_PARAMETERS}
 
     def counts(self):
         """A pandas DataFrame, files x rungs: the number of parameters outside (NaN: failed)."""

@@ -100,6 +100,10 @@ def test_best_rung_and_share(tmp_path):
     assert ladder.reproduced() == [A, C]
     assert ladder.share_reproduced() == pytest.approx(2 / 3)
     assert ladder.share_reproduced(max_outside=3) == 1.0
+    first = SURFACE_PARAMETERS[0]
+    assert ladder.files_outside(rungs[0])[first] == 2       # 5, 3 and 0 outside: Sq in 2 ...
+    assert ladder.files_outside(rungs[0])[SURFACE_PARAMETERS[4]] == 1   # ... the 5th in 1
+    assert ladder.files_outside()[first] == 2               # the best: 1, 3, 0 outside
     counts = ladder.counts()
     assert counts.shape == (3, 3) and np.isnan(counts.loc[B, rungs[1]])
     table = ladder.table()
