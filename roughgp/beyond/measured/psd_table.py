@@ -212,16 +212,19 @@ def _amplitude(table, f_min, f_max, torus, spacing):
     return np.sqrt(c / (dy * dx))
 
 
-def synthesize(table, f_min, f_max, shape, spacing, rng, n_samples=1):
+def synthesize(table, f_min, f_max, shape, spacing, rng, n_samples=1, transform=None):
     """``n_samples`` fields of ``shape`` drawn from the PSD table by spectral synthesis on a
     torus (:func:`torus_shape`), cropped: Gaussian, mean 0, the torus's variance
-    :math:`\\sum C \\Delta q` (module docstring). Returns ``(n_samples, ny, nx)``."""
+    :math:`\\sum C \\Delta q` (module docstring); ``transform``, when given, is applied to
+    each torus field before the crop. Returns ``(n_samples, ny, nx)``."""
     torus = torus_shape(shape, spacing, f_min)
     amplitude = _amplitude(table, f_min, f_max, torus, spacing)
     out = np.empty((n_samples, *shape))
     for k in range(n_samples):
         white = rng.standard_normal(torus)
         field = scipy.fft.irfft2(scipy.fft.rfft2(white) * amplitude, s=torus)
+        if transform is not None:
+            field = transform(field)
         out[k] = field[:shape[0], :shape[1]]
     return out
 
