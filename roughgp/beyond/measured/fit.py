@@ -46,7 +46,8 @@ from roughgp.inference.block_fit import BlockFit, fit_ground_to_valid_points
 from roughgp.inference.fitting import MIN_POINTS, SpectralMixtureFit, fit_spectral_mixture
 from roughgp.metrology.filters import Texture, surface_texture
 
-__all__ = ["MARGINALS", "marginal_of", "SurfaceModelFit", "ProfileModelFit", "fit_surface_model", "fit_profile_model",
+__all__ = ["MARGINALS", "marginal_of", "SurfaceModelFit", "ProfileModelFit", "fit_surface_model",
+           "fit_profile_model",
            "apply_operators", "rest_of_chain", "form_removed", "measured_chain"]
 
 

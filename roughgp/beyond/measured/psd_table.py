@@ -28,8 +28,8 @@ variant. This module holds the three steps:
   first (up to three each way) and then neighbouring angles until it holds that many: radial
   before angular, because the PSD changes slowly with log frequency there while the lay's
   direction is what Str and Std measure. A bin with no ordinate takes the value interpolated
-  along its ring (periodic in angle), or, for a ring with none, from the neighbouring rings. 40 x 36 numbers
-  in the file, whatever the map's size.
+  along its ring (periodic in angle), or, for a ring with none, from the neighbouring rings.
+  40 x 36 numbers in the file, whatever the map's size.
 * **Draw** (:func:`psd_at`, :func:`synthesize`): the table is interpolated bilinearly in
   (log frequency, angle) on the log of the PSD. The field is drawn by spectral synthesis on a
   torus of about twice the field's size along each axis (:func:`torus_shape`) and cropped, so

@@ -170,7 +170,8 @@ def check_fields(equation, hyperparameters, spacing, marginal, cutoffs, stage, o
         if not isinstance(marginal, dict) or set(marginal) != {"skewness", "kurtosis"}:
             raise ModelFileError(f"marginal must be null, {{\"skewness\": s, \"kurtosis\": k}} "
                                  f"(Johnson) or {{\"method\": \"iaaft\", \"quantiles_um\": "
-                                 f"[...], \"tail_probability\": p, \"iterations\": n}}, got {marginal!r:.200}")
+                                 f"[...], \"tail_probability\": p, \"iterations\": n}}, "
+                                 f"got {marginal!r:.200}")
         s, k = number("skewness", marginal["skewness"]), number("kurtosis", marginal["kurtosis"])
         if not k > s * s + 1:
             raise ModelFileError(f"marginal kurtosis must be > skewness**2 + 1, got {marginal!r}")
