@@ -138,7 +138,6 @@ HOSTILE = [
     (lambda r: r["hyperparameters"].update(frequency_min_per_um=0.0), "frequency_min_per_um"),
     (lambda r: r["hyperparameters"].update(frequency_max_per_um=1e-9), "must be smaller"),
     (lambda r: r["hyperparameters"].pop("frequency_max_per_um"), "lacks frequency_max_per_um"),
-    (lambda r: r.update(marginal={"skewness": 0.1, "kurtosis": 4.0}), "not available"),
     (lambda r: r["hyperparameters"].update(lambda_a_um=3.0), "unknown hyperparameters"),
 ]
 

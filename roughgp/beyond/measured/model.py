@@ -168,7 +168,11 @@ class FittedModel:
             text = f"eq 21: Q = {q} spectral-mixture components, variance " \
                    f"{self.latent_variance():.4g} um^2"
         text += f"; noise variance {self.noise_variance:.3g} um^2"
-        if self.marginal is not None:
+        if self.marginal_method == "iaaft":
+            q = self.marginal["quantiles_um"]
+            text += (f"; IAAFT heights ({len(q)} measured quantiles, {q[0]:.4g} to {q[-1]:.4g} "
+                     f"um, at most {self.marginal['iterations']} rounds)")
+        elif self.marginal is not None:
             text += (f"; Johnson heights (skewness {self.marginal['skewness']:.3g}, kurtosis "
                      f"{self.marginal['kurtosis']:.3g})")
         return text
@@ -195,13 +199,22 @@ class FittedModel:
                              f"{_MAX_SIMULATE_POINTS} (2**24): draw fewer or smaller surfaces")
         shape, spacing = normalize(shape, self.spacing if spacing is None else spacing)
         rng = as_generator(seed)
+        remap = self.marginal is not None and (self.equation == "measured-psd"
+                                               or self.marginal_method == "iaaft")
         if self.equation == "measured-psd":
             from roughgp.beyond.measured.psd_model import draw_psd_model
-            latent = draw_psd_model(self, shape, spacing, rng, count)
-        elif self.marginal is None:
+            return self._returned(draw_psd_model(self, shape, spacing, rng, count,
+                                                 self._remapped if remap else None), n_samples)
+        if remap:  # on twice the field each way, then cropped (roughgp.beyond.measured.iaaft)
+            big = tuple(2 * n for n in shape)
+            latent = sample_grid(self.kernel(), big, spacing=spacing, n_samples=count,
+                                 method=method, seed=rng)
+            z = GaussianNoise(self.noise_variance).sample(latent, seed=rng)
+            crop = (slice(None),) + tuple(slice(0, n) for n in shape)
+            return self._returned(np.stack([self._remapped(f) for f in z])[crop], n_samples)
+        if self.marginal is None:
             latent = sample_grid(self.kernel(), shape, spacing=spacing, n_samples=count,
-                                 method=method,
-                                 seed=rng)
+                                 method=method, seed=rng)
         else:
             from roughgp.beyond.non_gaussian import non_gaussian_surface
             w = self.latent_variance() / (self.latent_variance() + self.noise_variance)
@@ -211,7 +224,37 @@ class FittedModel:
                                              spacing=spacing, seed=rng, n_samples=count,
                                              method="circulant" if method == "auto" else method)
         z = GaussianNoise(self.noise_variance).sample(latent, seed=rng)
+        return self._returned(z, n_samples)
+
+    @staticmethod
+    def _returned(z, n_samples):
         return z if n_samples is not None else z[0]
+
+    @property
+    def marginal_method(self) -> str:
+        """``"gaussian"`` (no marginal), ``"johnson"`` or ``"iaaft"``."""
+        if self.marginal is None:
+            return "gaussian"
+        return self.marginal.get("method", "johnson")
+
+    def _remapped(self, field):
+        """A Gaussian draw given the model's height distribution by IAAFT
+        (:mod:`roughgp.beyond.measured.iaaft`): the stored quantiles, or, for the measured-psd
+        model with a Johnson marginal, the Johnson distribution of the model's skewness,
+        kurtosis, variance and mean (its transform of a Gaussian field would change the PSD)."""
+        from roughgp.beyond.measured import iaaft
+        if self.marginal_method == "iaaft":
+            values = iaaft.quantile_values(self.marginal["quantiles_um"],
+                                           self.marginal["tail_probability"], field.size)
+            iterations = int(self.marginal["iterations"])
+        else:
+            from roughgp.beyond.non_gaussian.johnson import johnson_for
+            johnson = johnson_for(self.marginal["skewness"], self.marginal["kurtosis"],
+                                  self.latent_variance())
+            values = iaaft.johnson_values(johnson, field.size) \
+                + float(self.hyperparameters.get("mean_um", 0.0))
+            iterations = iaaft.ITERATIONS
+        return iaaft.iaaft(field, values, iterations)[0]
 
     # ------------------------------------------------------------------ the file
     def to_dict(self) -> dict:

@@ -28,15 +28,12 @@ import numpy as np
 import scipy.ndimage
 
 from roughgp.beyond.measured import psd_table
-from roughgp.beyond.measured.fit import measured_chain
+from roughgp.beyond.measured.fit import MARGINALS, marginal_of, measured_chain
 from roughgp.beyond.measured.model import FittedModel
 from roughgp.common.grid import normalize
 from roughgp.metrology.filters import Texture
 
-__all__ = ["PsdModelFit", "fit_psd_model", "TabulatedACVF", "draw_psd_model", "band_variance",
-           "MARGINALS"]
-
-MARGINALS = ("gaussian",)  #: the height distributions fit_psd_model offers
+__all__ = ["PsdModelFit", "fit_psd_model", "TabulatedACVF", "draw_psd_model", "band_variance"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -72,12 +69,15 @@ def band_variance(model: FittedModel) -> float:
     return psd_table.table_variance(table, f_min, f_max, model.spacing, _fitted_shape(model))
 
 
-def draw_psd_model(model: FittedModel, shape, spacing, rng, count):
+def draw_psd_model(model: FittedModel, shape, spacing, rng, count, transform=None):
     """``count`` Gaussian fields of ``shape`` at ``spacing`` from ``model``'s PSD
-    (:func:`~roughgp.beyond.measured.psd_table.synthesize`), plus its mean."""
+    (:func:`~roughgp.beyond.measured.psd_table.synthesize`), plus its mean; ``transform`` (a
+    rank remap) applied to each torus field, mean included, before the crop."""
     table, f_min, f_max = _table(model)
-    fields = psd_table.synthesize(table, f_min, f_max, shape, spacing, rng, count)
-    return fields + float(model.hyperparameters.get("mean_um", 0.0))
+    mean = float(model.hyperparameters.get("mean_um", 0.0))
+    shifted = None if transform is None else (lambda field: transform(field + mean) - mean)
+    fields = psd_table.synthesize(table, f_min, f_max, shape, spacing, rng, count, shifted)
+    return fields + mean
 
 
 class TabulatedACVF:
@@ -118,7 +118,9 @@ def fit_psd_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, axi
         form, degree, axis, s, l: the operator chain, as in
             :func:`~roughgp.beyond.measured.fit.fit_surface_model` (the model describes the
             heights after F; S and L are applied to its simulations as to the measurement).
-        marginal: ``"gaussian"`` (:data:`MARGINALS`).
+        marginal: ``"gaussian"``, ``"johnson"`` (the heights' skewness and kurtosis; drawn by
+            IAAFT toward the Johnson distribution, which keeps the PSD) or ``"iaaft"`` (their
+            quantile function, :mod:`roughgp.beyond.measured.iaaft`).
         seed: kept in the model (the estimate itself draws nothing).
         data: a dict describing the source, kept in the model.
     """
@@ -149,6 +151,7 @@ def fit_psd_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, axi
                       f"{psd_table.N_RADII} x {psd_table.N_ANGLES} log-polar bins of >= "
                       f"{psd_table.MIN_ORDINATES} ordinates (roughgp.beyond.measured.psd_table)"),
            "seed": seed, "seconds": round(time.perf_counter() - start, 2)}
-    model = FittedModel("measured-psd", hyper, (dy, dx), None, tuple(texture.operators),
+    model = FittedModel("measured-psd", hyper, (dy, dx), marginal_of(heights, marginal),
+                        tuple(texture.operators),
                         cutoffs, described, how, "form-removed")
     return PsdModelFit(model, texture, variance)

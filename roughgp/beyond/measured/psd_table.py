@@ -28,8 +28,8 @@ variant. This module holds the three steps:
   first (up to three each way) and then neighbouring angles until it holds that many: radial
   before angular, because the PSD changes slowly with log frequency there while the lay's
   direction is what Str and Std measure. A bin with no ordinate takes the value interpolated
-  along its ring (periodic in angle), or, for a ring with none, from the neighbouring rings. 40 x 36 numbers
-  in the file, whatever the map's size.
+  along its ring (periodic in angle), or, for a ring with none, from the neighbouring rings.
+  40 x 36 numbers in the file, whatever the map's size.
 * **Draw** (:func:`psd_at`, :func:`synthesize`): the table is interpolated bilinearly in
   (log frequency, angle) on the log of the PSD. The field is drawn by spectral synthesis on a
   torus of about twice the field's size along each axis (:func:`torus_shape`) and cropped, so
@@ -212,16 +212,19 @@ def _amplitude(table, f_min, f_max, torus, spacing):
     return np.sqrt(c / (dy * dx))
 
 
-def synthesize(table, f_min, f_max, shape, spacing, rng, n_samples=1):
+def synthesize(table, f_min, f_max, shape, spacing, rng, n_samples=1, transform=None):
     """``n_samples`` fields of ``shape`` drawn from the PSD table by spectral synthesis on a
     torus (:func:`torus_shape`), cropped: Gaussian, mean 0, the torus's variance
-    :math:`\\sum C \\Delta q` (module docstring). Returns ``(n_samples, ny, nx)``."""
+    :math:`\\sum C \\Delta q` (module docstring); ``transform``, when given, is applied to
+    each torus field before the crop. Returns ``(n_samples, ny, nx)``."""
     torus = torus_shape(shape, spacing, f_min)
     amplitude = _amplitude(table, f_min, f_max, torus, spacing)
     out = np.empty((n_samples, *shape))
     for k in range(n_samples):
         white = rng.standard_normal(torus)
         field = scipy.fft.irfft2(scipy.fft.rfft2(white) * amplitude, s=torus)
+        if transform is not None:
+            field = transform(field)
         out[k] = field[:shape[0], :shape[1]]
     return out
 

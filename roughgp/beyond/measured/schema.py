@@ -35,6 +35,9 @@ EQUATIONS = {
     "measured-psd": ("surface", ("psd_um4", "frequency_min_per_um", "frequency_max_per_um",
                                  "noise_variance_um2")),
 }
+#: the IAAFT marginal's allowed number of quantiles and of iterations
+QUANTILES = (3, 2001)
+ITERATIONS = (1, 1000)
 #: the log-polar PSD table's allowed size: radial bins, angular bins
 PSD_RADII = (4, 128)
 PSD_ANGLES = (1, 180)
@@ -63,6 +66,8 @@ RANGES = {
     "l_um": (0.0, 1e9, False),
     "degree": (0, 10, True),
     "psd_um4": (0.0, 1e30, True),
+    "quantiles_um": (-1e9, 1e9, True),
+    "tail_probability": (0.0, 0.25, False),
     "frequency_min_per_um": (0.0, 1e9, False),
     "frequency_max_per_um": (0.0, 1e9, False),
 }
@@ -159,14 +164,14 @@ def check_fields(equation, hyperparameters, spacing, marginal, cutoffs, stage, o
         if len({len(v) for v in lists}) != 1:
             raise ModelFileError("weights_um2, frequencies_per_um and "
                                  "spectral_variances_per_um2 must have the same length")
-    if marginal is not None and equation == "measured-psd" and \
-            set(marginal) == {"skewness", "kurtosis"}:
-        raise ModelFileError("the Johnson marginal (skewness, kurtosis) is not available for the "
-                             "measured-psd model (its transform would change the measured PSD)")
-    if marginal is not None:
+    if isinstance(marginal, dict) and marginal.get("method") == "iaaft":
+        _check_iaaft(marginal)
+    elif marginal is not None:
         if not isinstance(marginal, dict) or set(marginal) != {"skewness", "kurtosis"}:
-            raise ModelFileError(f"marginal must be null or {{\"skewness\": s, \"kurtosis\": k}}"
-                                 f", got {marginal!r}")
+            raise ModelFileError(f"marginal must be null, {{\"skewness\": s, \"kurtosis\": k}} "
+                                 f"(Johnson) or {{\"method\": \"iaaft\", \"quantiles_um\": "
+                                 f"[...], \"tail_probability\": p, \"iterations\": n}}, "
+                                 f"got {marginal!r:.200}")
         s, k = number("skewness", marginal["skewness"]), number("kurtosis", marginal["kurtosis"])
         if not k > s * s + 1:
             raise ModelFileError(f"marginal kurtosis must be > skewness**2 + 1, got {marginal!r}")
@@ -175,6 +180,32 @@ def check_fields(equation, hyperparameters, spacing, marginal, cutoffs, stage, o
             not all(isinstance(op, str) and len(op) <= 200 for op in operators):
         raise ModelFileError(f"operators must be a list of at most {MAX_OPERATORS} short "
                              f"strings, got {operators!r}")
+
+
+def _check_iaaft(marginal):
+    """The IAAFT marginal: ``QUANTILES`` non-decreasing heights (um), not all equal, and an
+    iteration count in ``ITERATIONS``."""
+    extra = sorted(set(marginal) - {"method", "quantiles_um", "tail_probability", "iterations"})
+    missing = sorted({"quantiles_um", "tail_probability", "iterations"} - set(marginal))
+    if extra or missing:
+        raise ModelFileError("the iaaft marginal takes method, quantiles_um, tail_probability "
+                             "and iterations"
+                             + (f"; unknown {', '.join(map(str, extra))}" if extra else "")
+                             + (f"; lacks {', '.join(missing)}" if missing else ""))
+    q = marginal["quantiles_um"]
+    if not isinstance(q, (list, tuple)) or not QUANTILES[0] <= len(q) <= QUANTILES[1]:
+        raise ModelFileError(f"quantiles_um must be a list of {QUANTILES[0]} to {QUANTILES[1]} "
+                             f"heights (um), got {type(q).__name__}"
+                             + (f" of {len(q)}" if isinstance(q, (list, tuple)) else ""))
+    q = _numbers("quantiles_um", q)
+    if any(b < a for a, b in zip(q, q[1:])) or not q[-1] > q[0]:
+        raise ModelFileError("quantiles_um must be non-decreasing and not all equal (the "
+                             "quantile function of the heights)")
+    number("tail_probability", marginal["tail_probability"], where="marginal tail_probability")
+    n = marginal["iterations"]
+    if not isinstance(n, int) or isinstance(n, bool) or not ITERATIONS[0] <= n <= ITERATIONS[1]:
+        raise ModelFileError(f"marginal iterations must be an integer in [{ITERATIONS[0]}, "
+                             f"{ITERATIONS[1]}], got {n!r}")
 
 
 def _check_psd(hp):
