@@ -36,11 +36,17 @@ def _paths(size):
 def write_report(command, seconds, size) -> None:
     records_path, report = _paths(size)
     ladder = dataclasses.replace(ml.recorded_ladder(records_path, size), seconds=seconds)
-    lines = [f"# The ladder of models at full size ({datetime.date.today().isoformat()})", "",
-             f"Command: `{command}`; {seconds:.0f} s of wall time for the last run (the "
-             f"records may come from several runs: `{records_path.name}`), on the 2-core machine "
-             f"shared with other jobs. Each map's central {ladder.size} x {ladder.size} points "
-             f"(the whole of a shorter axis); 19 simulations per check; seed 0.", "",
+    fit_seconds = sum(r.fit_seconds for r in ladder.results)
+    check_seconds = sum(r.check_seconds for r in ladder.results)
+    lines = [f"# The ladder of models on every map, {size} x {size} "
+             f"({datetime.date.today().isoformat()})", "",
+             f"Command: `{command}`"
+             + (f"; {seconds:.0f} s of wall time" if seconds == seconds else "")
+             + f" (the records, `{records_path.name}`, may come from several runs), on the "
+             f"2-core machine shared with other jobs. Each map's central {ladder.size} x "
+             f"{ladder.size} points (the whole of a shorter axis); 19 simulations per check; "
+             f"seed 0. Fits and checks: {fit_seconds:.0f} s and {check_seconds:.0f} s in all "
+             f"(the held-out scores not counted).", "",
              ml.markdown_table(ladder), "",
              f"Best model leaves <= {ml.MAX_OUTSIDE} of 13 outside on "
              f"{len(ladder.reproduced())} of {len(ladder.files)} maps "

@@ -50,9 +50,10 @@ from roughgp.common.settings import pick
 from roughgp.experiments.real_maps import REAL_MAPS, real_file
 from roughgp.metrology.measurement import read_measurement
 
-__all__ = ["Rung", "RUNGS", "PSD_MARGINALS", "QUICK_RUNGS", "QUICK_FILES", "FORMS", "MAX_OUTSIDE", "TARGET_SHARE",
-           "crop_size", "crop_window", "RECORDED", "recorded_ladder", "RungResult", "run_rung", "Ladder", "model_ladder",
-           "reasons", "verdict_lines", "markdown_table", "plot_ladder", "TAILS", "AMPLITUDE", "SPATIAL"]
+__all__ = ["Rung", "RUNGS", "PSD_MARGINALS", "QUICK_RUNGS", "QUICK_FILES", "FORMS",
+           "MAX_OUTSIDE", "TARGET_SHARE", "crop_size", "crop_window", "RECORDED",
+           "recorded_ladder", "RungResult", "run_rung", "Ladder", "model_ladder", "reasons",
+           "verdict_lines", "markdown_table", "plot_ladder", "TAILS", "AMPLITUDE", "SPATIAL"]
 
 #: a best rung "reproduces" a map when at most this many of the 13 parameters are outside
 MAX_OUTSIDE = 2
@@ -379,9 +380,9 @@ def _span(p, unit=True):
 def reasons(result: RungResult) -> list:
     """What the model of ``result`` misses, from which parameters stay outside, with the
     measured value against the simulations' range of one parameter of each group: the height
-    distribution (:data:`TAILS`: spikes, pits, steps, plateaus), the amplitude (:data:`AMPLITUDE`: a variance
-    the model's simulations do not reach, long wavelengths or a field that is not stationary),
-    the spatial structure (:data:`SPATIAL`: a lay, periodic or structured texture, or a
+    distribution (:data:`TAILS`: spikes, pits, steps, plateaus), the amplitude
+    (:data:`AMPLITUDE`: a variance the model's simulations do not match, long wavelengths or a
+    field that is not stationary), the spatial structure (:data:`SPATIAL`: a lay, periodic or structured texture, or a
     correlation the model's lengths do not describe). Empty when none is outside."""
     if result.outside is None:
         return [result.description]
