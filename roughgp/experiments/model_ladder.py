@@ -23,7 +23,8 @@ to one map and asks two questions of the model:
   (:func:`~roughgp.beyond.measured.self_check.self_check_fill`). The score is the GP's RMSE
   there relative to linear interpolation's (below 1: the model's correlation helps) and the
   share inside :math:`\pm 2` predictive sd (about 95 % for a calibrated Gaussian predictive).
-  Kriging uses the kernel alone, so the Johnson rung scores as its Gaussian rung does.
+  Kriging uses the kernel alone, so a rung with Johnson or IAAFT heights scores as its
+  Gaussian rung does.
 
 :func:`model_ladder` runs every rung on every file (each map cropped to its central
 :func:`crop_size` x :func:`crop_size` points, 128 quick, 256 at full size: the window is kept
