@@ -180,10 +180,13 @@ def land_check_verdicts(check: ModelCheck) -> dict:
     """The data's verdicts on the land among its model's simulations, as the chapter asserts
     them and the ledger's ``land-model`` row judges them: statement -> bool."""
     by_name = {p.name: p for p in check.parameters}
-    sku, std, str_ = by_name["Sku"], by_name["Std"], by_name["Str"]
+    sku, std, str_, sq = by_name["Sku"], by_name["Std"], by_name["Str"], by_name["Sq"]
     return {
         "Sku lies outside, above twice the simulations' largest (heavy-tailed heights)":
             bool(sku.outside and sku.measured > 2 * sku.high),
+        "Sq lies outside, above twice the simulations' median (the fit describes the "
+        "waviness, which the L-filter takes out of the simulations)":
+            bool(sq.outside and sq.measured > 2 * sq.median),
         "Std lies inside the simulations' range": not std.outside,
         "Str lies outside, below the simulations' smallest (a stronger anisotropy)":
             bool(str_.outside and str_.measured < str_.low),

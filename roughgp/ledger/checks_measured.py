@@ -45,7 +45,8 @@ def check_land_lay(full):
 
 def check_land_model(full):
     """The land's ISO 25178-2 parameters among simulations of its fitted eq 18 model: the
-    heavy-tailed heights (Sku) lie far outside the Gaussian model's range, the texture
+    heavy-tailed heights (Sku) lie far outside the Gaussian model's range, Sq above twice the
+    simulations' median (the fit before the L-filter describes the waviness), the texture
     direction Std inside, the aspect ratio Str below (the chapter's assertions)."""
     from roughgp.beyond.measured.check import plot_model_check
     from roughgp.experiments import measured_surfaces as ms

@@ -48,19 +48,22 @@ def test_land_fit_verdicts(angle, la, lb, holds):
 
 def _parameter(name, measured, low, high):
     return SimpleNamespace(name=name, measured=measured, low=low, high=high,
-                           outside=not low <= measured <= high)
+                           median=(low + high) / 2, outside=not low <= measured <= high)
 
 
-@pytest.mark.parametrize("sku, std, str_, holds", [
-    (30.0, 90.0, 0.05, True),
-    (5.0, 90.0, 0.05, False),     # Sku outside, but not beyond twice the largest
-    (30.0, 10.0, 0.05, False),    # Std outside
-    (30.0, 90.0, 0.5, False),     # Str inside
+@pytest.mark.parametrize("sku, std, str_, sq, holds", [
+    (30.0, 90.0, 0.05, 7.0, True),
+    (5.0, 90.0, 0.05, 7.0, False),     # Sku outside, but not beyond twice the largest
+    (30.0, 10.0, 0.05, 7.0, False),    # Std outside
+    (30.0, 90.0, 0.5, 7.0, False),     # Str inside
+    (30.0, 90.0, 0.05, 3.5, False),    # Sq outside, but not twice the median
+    (30.0, 90.0, 0.05, 2.5, False),    # Sq inside
 ])
-def test_land_check_verdicts(sku, std, str_, holds):
+def test_land_check_verdicts(sku, std, str_, sq, holds):
     check = SimpleNamespace(parameters=[_parameter("Sku", sku, 2.5, 4.0),
                                         _parameter("Std", std, 80.0, 100.0),
-                                        _parameter("Str", str_, 0.2, 0.4)])
+                                        _parameter("Str", str_, 0.2, 0.4),
+                                        _parameter("Sq", sq, 2.0, 3.0)])
     assert all(ms.land_check_verdicts(check).values()) == holds
 
 

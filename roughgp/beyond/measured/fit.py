@@ -46,8 +46,9 @@ from roughgp.inference.block_fit import BlockFit, fit_ground_to_valid_points
 from roughgp.inference.fitting import MIN_POINTS, SpectralMixtureFit, fit_spectral_mixture
 from roughgp.metrology.filters import Texture, surface_texture
 
-__all__ = ["SurfaceModelFit", "ProfileModelFit", "fit_surface_model", "fit_profile_model",
-           "apply_operators", "rest_of_chain", "form_removed"]
+__all__ = ["MARGINALS", "marginal_of", "SurfaceModelFit", "ProfileModelFit", "fit_surface_model",
+           "fit_profile_model",
+           "apply_operators", "rest_of_chain", "form_removed", "measured_chain"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -103,9 +104,23 @@ def form_removed(z, spacing, cutoffs) -> Texture:
     return apply_operators(z, spacing, {**cutoffs, "s_um": None, "l_um": None})
 
 
-def _marginal(heights, non_gaussian):
-    if not non_gaussian:
+#: the height distributions a fitted model may keep
+MARGINALS = ("gaussian", "johnson", "iaaft")
+
+
+def marginal_of(heights, method):
+    """The ``marginal`` field of a model of ``heights`` (NaN where unmeasured): None for
+    ``"gaussian"``, their skewness and kurtosis for ``"johnson"``, their quantile function for
+    ``"iaaft"`` (:mod:`roughgp.beyond.measured.iaaft`)."""
+    if method not in MARGINALS:
+        raise ValueError(f"marginal must be one of {list(MARGINALS)}, got {method!r}")
+    if method == "gaussian":
         return None
+    if method == "iaaft":
+        from roughgp.beyond.measured import iaaft
+        quantiles, tail = iaaft.quantile_table(heights)
+        return {"method": "iaaft", "quantiles_um": quantiles, "tail_probability": tail,
+                "iterations": iaaft.ITERATIONS}
     h = heights[np.isfinite(heights)]
     h = h - h.mean()
     sd = float(np.sqrt(np.mean(h * h)))
@@ -114,11 +129,17 @@ def _marginal(heights, non_gaussian):
     return {"skewness": skewness, "kurtosis": max(kurtosis, skewness ** 2 + 1.01)}
 
 
+def _marginal(heights, non_gaussian, marginal):
+    if marginal is None:
+        marginal = "johnson" if non_gaussian else "gaussian"
+    return marginal_of(heights, marginal)
+
+
 def _cutoffs(form, s, l, degree, axis):
     return {"form": form, "s_um": s, "l_um": l, "degree": degree, "axis": axis}
 
 
-def _chain(arr, spacing, form, s, l, degree, axis, stage):
+def measured_chain(arr, spacing, form, s, l, degree, axis, stage):
     """The measurement's chain (its cut-offs resolved), and the heights the model of ``stage``
     is fitted to: after F alone (``"form-removed"``) or after every operator."""
     if stage not in STAGES:
@@ -131,7 +152,7 @@ def _chain(arr, spacing, form, s, l, degree, axis, stage):
 
 def fit_surface_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, axis="auto",
                       block=24, n_blocks=12, seed=0, non_gaussian=False, nu=0.5,
-                      data=None, stage="form-removed") -> SurfaceModelFit:
+                      data=None, stage="form-removed", marginal=None) -> SurfaceModelFit:
     """Fit eq 18 plus noise to a measured surface ``z[iy, ix]`` (um, NaN where unmeasured).
 
     Args:
@@ -141,7 +162,11 @@ def fit_surface_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2,
         s, l: S- and L-filter nesting indices in um, ``"auto"`` or None (default: off).
         block, n_blocks, seed: the block composite likelihood's blocks
             (:func:`~roughgp.inference.block_fit.fit_ground_to_valid_points`).
-        non_gaussian: keep the fitted heights' skewness and kurtosis in the model.
+        non_gaussian: keep the fitted heights' skewness and kurtosis in the model (the same as
+            ``marginal="johnson"``).
+        marginal: ``"gaussian"``, ``"johnson"`` or ``"iaaft"`` (the heights' quantile function,
+            matched exactly by :mod:`roughgp.beyond.measured.iaaft`); overrides
+            ``non_gaussian``.
         nu: 0.5 (eq 18, the default), or 1.5 / 2.5 for eq 18's anisotropy with a smoother
             Matérn profile (model ``"eq18-matern"``).
         data: a dict describing the source (file name, checksum, ...), kept in the model.
@@ -154,7 +179,7 @@ def fit_surface_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2,
         raise ValueError(f"z must be a surface z[iy, ix], got shape {arr.shape}")
     _, (dy, dx) = normalize(arr.shape, spacing)
     start = time.perf_counter()
-    texture, cutoffs, heights = _chain(arr, (dy, dx), form, s, l, degree, axis, stage)
+    texture, cutoffs, heights = measured_chain(arr, (dy, dx), form, s, l, degree, axis, stage)
     fit = fit_ground_to_valid_points(heights, spacing=(dy, dx), block=block, n_blocks=n_blocks,
                                      seed=seed, nu=nu)
     g = fit.groove
@@ -170,8 +195,8 @@ def fit_surface_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2,
            "log_likelihood": fit.log_likelihood, "block": block, "n_blocks": len(fit.blocks),
            "seed": seed, "seconds": round(time.perf_counter() - start, 2)}
     model = FittedModel("eq18" if nu == 0.5 else "eq18-matern", hyper, (dy, dx),
-                        _marginal(heights, non_gaussian), tuple(texture.operators), cutoffs,
-                        described, how, stage)
+                        _marginal(heights, non_gaussian, marginal), tuple(texture.operators),
+                        cutoffs, described, how, stage)
     model, notes = keep_in_range(model, arr.shape, block)
     return SurfaceModelFit(model, texture, fit, tuple(notes))
 
@@ -199,7 +224,7 @@ def fit_profile_model(z, spacing=1.0, *, form="plane", s=None, l=None, num_mixtu
         raise ValueError(f"the profile has {arr.size} points; the fit needs at least "
                          f"{MIN_POINTS}")
     start = time.perf_counter()
-    texture, cutoffs, heights = _chain(arr, dx, form, s, l, 2, "auto", stage)
+    texture, cutoffs, heights = measured_chain(arr, dx, form, s, l, 2, "auto", stage)
     x = np.arange(arr.size) * dx
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
@@ -214,6 +239,6 @@ def fit_profile_model(z, spacing=1.0, *, form="plane", s=None, l=None, num_mixtu
     how = {"method": "maximum marginal likelihood, section 3.3 (roughgp.inference.fitting)",
            "log_likelihood": mix.log_marginal_likelihood, "seed": seed,
            "n_candidates": n_candidates, "seconds": round(time.perf_counter() - start, 2)}
-    model = FittedModel("eq21", hyper, (dx,), _marginal(heights, non_gaussian),
+    model = FittedModel("eq21", hyper, (dx,), _marginal(heights, non_gaussian, None),
                         tuple(texture.operators), cutoffs, described, how, stage)
     return ProfileModelFit(model, texture, mix)

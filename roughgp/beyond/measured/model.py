@@ -114,8 +114,14 @@ class FittedModel:
         return float(self.hyperparameters["noise_variance_um2"])
 
     def kernel(self):
-        """The fitted latent kernel (:mod:`roughgp.gp.kernels`), lengths in um."""
+        """The fitted latent kernel (:mod:`roughgp.gp.kernels`), lengths in um; for the
+        measured-psd model a function of lags ``(..., 2)`` in (x, y) order: the ACVF tabulated
+        by the inverse DFT of its PSD
+        (:class:`~roughgp.beyond.measured.psd_model.TabulatedACVF`)."""
         hp = self.hyperparameters
+        if self.equation == "measured-psd":
+            from roughgp.beyond.measured.psd_model import TabulatedACVF
+            return TabulatedACVF(self)
         if self.equation == "eq18-matern":
             from roughgp.gp.acvf import rotated_matern
             scales = np.array([hp["lambda_a_um"], hp["lambda_b_um"]], dtype=np.float64)
@@ -138,6 +144,9 @@ class FittedModel:
 
     def latent_variance(self) -> float:
         hp = self.hyperparameters
+        if self.equation == "measured-psd":
+            from roughgp.beyond.measured.psd_model import band_variance
+            return band_variance(self)
         if self.kind == "surface":
             return float(hp["variance_um2"])
         return float(np.sum(hp["weights_um2"]))
@@ -145,7 +154,12 @@ class FittedModel:
     def describe(self) -> str:
         """One line: the equation and its hyperparameters."""
         hp = self.hyperparameters
-        if self.kind == "surface":
+        if self.equation == "measured-psd":
+            rows = hp["psd_um4"]
+            text = (f"measured PSD ({len(rows)} x {len(rows[0])} log-polar table, "
+                    f"{hp['frequency_min_per_um']:.4g} to {hp['frequency_max_per_um']:.4g} 1/um), "
+                    f"variance {self.latent_variance():.4g} um^2")
+        elif self.kind == "surface":
             name = "eq 18" if self.equation == "eq18" else f"eq 18 with Matern nu = {hp['nu']:g}"
             text = (f"{name}: variance {hp['variance_um2']:.4g} um^2, lambda_a "
                     f"{hp['lambda_a_um']:.4g} um, lambda_b {hp['lambda_b_um']:.4g} um, angle "
@@ -155,7 +169,11 @@ class FittedModel:
             text = f"eq 21: Q = {q} spectral-mixture components, variance " \
                    f"{self.latent_variance():.4g} um^2"
         text += f"; noise variance {self.noise_variance:.3g} um^2"
-        if self.marginal is not None:
+        if self.marginal_method == "iaaft":
+            q = self.marginal["quantiles_um"]
+            text += (f"; IAAFT heights ({len(q)} measured quantiles, {q[0]:.4g} to {q[-1]:.4g} "
+                     f"um, at most {self.marginal['iterations']} rounds)")
+        elif self.marginal is not None:
             text += (f"; Johnson heights (skewness {self.marginal['skewness']:.3g}, kurtosis "
                      f"{self.marginal['kurtosis']:.3g})")
         return text
@@ -182,20 +200,62 @@ class FittedModel:
                              f"{_MAX_SIMULATE_POINTS} (2**24): draw fewer or smaller surfaces")
         shape, spacing = normalize(shape, self.spacing if spacing is None else spacing)
         rng = as_generator(seed)
-        kernel = self.kernel()
+        remap = self.marginal is not None and (self.equation == "measured-psd"
+                                               or self.marginal_method == "iaaft")
+        if self.equation == "measured-psd":
+            from roughgp.beyond.measured.psd_model import draw_psd_model
+            return self._returned(draw_psd_model(self, shape, spacing, rng, count,
+                                                 self._remapped if remap else None), n_samples)
+        if remap:  # on twice the field each way, then cropped (roughgp.beyond.measured.iaaft)
+            big = tuple(2 * n for n in shape)
+            latent = sample_grid(self.kernel(), big, spacing=spacing, n_samples=count,
+                                 method=method, seed=rng)
+            z = GaussianNoise(self.noise_variance).sample(latent, seed=rng)
+            crop = (slice(None),) + tuple(slice(0, n) for n in shape)
+            return self._returned(np.stack([self._remapped(f) for f in z])[crop], n_samples)
         if self.marginal is None:
-            latent = sample_grid(kernel, shape, spacing=spacing, n_samples=count, method=method,
-                                 seed=rng)
+            latent = sample_grid(self.kernel(), shape, spacing=spacing, n_samples=count,
+                                 method=method, seed=rng)
         else:
             from roughgp.beyond.non_gaussian import non_gaussian_surface
             w = self.latent_variance() / (self.latent_variance() + self.noise_variance)
             skew = float(self.marginal["skewness"]) / w ** 1.5
             kurt = 3.0 + (float(self.marginal["kurtosis"]) - 3.0) / w ** 2
-            latent, _ = non_gaussian_surface(kernel, shape, skewness=skew, kurtosis=kurt,
+            latent, _ = non_gaussian_surface(self.kernel(), shape, skewness=skew, kurtosis=kurt,
                                              spacing=spacing, seed=rng, n_samples=count,
                                              method="circulant" if method == "auto" else method)
         z = GaussianNoise(self.noise_variance).sample(latent, seed=rng)
+        return self._returned(z, n_samples)
+
+    @staticmethod
+    def _returned(z, n_samples):
         return z if n_samples is not None else z[0]
+
+    @property
+    def marginal_method(self) -> str:
+        """``"gaussian"`` (no marginal), ``"johnson"`` or ``"iaaft"``."""
+        if self.marginal is None:
+            return "gaussian"
+        return self.marginal.get("method", "johnson")
+
+    def _remapped(self, field):
+        """A Gaussian draw given the model's height distribution by IAAFT
+        (:mod:`roughgp.beyond.measured.iaaft`): the stored quantiles, or, for the measured-psd
+        model with a Johnson marginal, the Johnson distribution of the model's skewness,
+        kurtosis, variance and mean (its transform of a Gaussian field would change the PSD)."""
+        from roughgp.beyond.measured import iaaft
+        if self.marginal_method == "iaaft":
+            values = iaaft.quantile_values(self.marginal["quantiles_um"],
+                                           self.marginal["tail_probability"], field.size)
+            iterations = int(self.marginal["iterations"])
+        else:
+            from roughgp.beyond.non_gaussian.johnson import johnson_for
+            johnson = johnson_for(self.marginal["skewness"], self.marginal["kurtosis"],
+                                  self.latent_variance())
+            values = iaaft.johnson_values(johnson, field.size) \
+                + float(self.hyperparameters.get("mean_um", 0.0))
+            iterations = iaaft.ITERATIONS
+        return iaaft.iaaft(field, values, iterations)[0]
 
     # ------------------------------------------------------------------ the file
     def to_dict(self) -> dict:

@@ -32,7 +32,15 @@ EQUATIONS = {
                                 "noise_variance_um2", "nu")),
     "eq21": ("profile", ("weights_um2", "frequencies_per_um", "spectral_variances_per_um2",
                          "noise_variance_um2")),
+    "measured-psd": ("surface", ("psd_um4", "frequency_min_per_um", "frequency_max_per_um",
+                                 "noise_variance_um2")),
 }
+#: the IAAFT marginal's allowed number of quantiles and of iterations
+QUANTILES = (3, 2001)
+ITERATIONS = (1, 1000)
+#: the log-polar PSD table's allowed size: radial bins, angular bins
+PSD_RADII = (4, 128)
+PSD_ANGLES = (1, 180)
 OPTIONAL_HYPERPARAMETERS = ("mean_um",)
 MAX_MIXTURES = 50
 MAX_DEPTH = 8
@@ -57,6 +65,11 @@ RANGES = {
     "s_um": (0.0, 1e9, False),
     "l_um": (0.0, 1e9, False),
     "degree": (0, 10, True),
+    "psd_um4": (0.0, 1e30, True),
+    "quantiles_um": (-1e9, 1e9, True),
+    "tail_probability": (0.0, 0.25, False),
+    "frequency_min_per_um": (0.0, 1e9, False),
+    "frequency_max_per_um": (0.0, 1e9, False),
 }
 _TOP = {"format", "version", "equation", "kind", "stage", "description", "hyperparameters",
         "spacing_um", "marginal", "operators", "cutoffs", "data", "fit", "roughgp_version"}
@@ -134,7 +147,9 @@ def check_fields(equation, hyperparameters, spacing, marginal, cutoffs, stage, o
     number("noise_variance_um2", hp["noise_variance_um2"])
     if "mean_um" in hp:
         number("mean_um", hp["mean_um"])
-    if kind == "surface":
+    if equation == "measured-psd":
+        _check_psd(hp)
+    elif kind == "surface":
         for name in ("variance_um2", "lambda_a_um", "lambda_b_um", "angle_deg"):
             number(name, hp[name])
         for name in ("lambda_a_um", "lambda_b_um"):
@@ -149,10 +164,14 @@ def check_fields(equation, hyperparameters, spacing, marginal, cutoffs, stage, o
         if len({len(v) for v in lists}) != 1:
             raise ModelFileError("weights_um2, frequencies_per_um and "
                                  "spectral_variances_per_um2 must have the same length")
-    if marginal is not None:
+    if isinstance(marginal, dict) and marginal.get("method") == "iaaft":
+        _check_iaaft(marginal)
+    elif marginal is not None:
         if not isinstance(marginal, dict) or set(marginal) != {"skewness", "kurtosis"}:
-            raise ModelFileError(f"marginal must be null or {{\"skewness\": s, \"kurtosis\": k}}"
-                                 f", got {marginal!r}")
+            raise ModelFileError(f"marginal must be null, {{\"skewness\": s, \"kurtosis\": k}} "
+                                 f"(Johnson) or {{\"method\": \"iaaft\", \"quantiles_um\": "
+                                 f"[...], \"tail_probability\": p, \"iterations\": n}}, "
+                                 f"got {marginal!r:.200}")
         s, k = number("skewness", marginal["skewness"]), number("kurtosis", marginal["kurtosis"])
         if not k > s * s + 1:
             raise ModelFileError(f"marginal kurtosis must be > skewness**2 + 1, got {marginal!r}")
@@ -161,6 +180,58 @@ def check_fields(equation, hyperparameters, spacing, marginal, cutoffs, stage, o
             not all(isinstance(op, str) and len(op) <= 200 for op in operators):
         raise ModelFileError(f"operators must be a list of at most {MAX_OPERATORS} short "
                              f"strings, got {operators!r}")
+
+
+def _check_iaaft(marginal):
+    """The IAAFT marginal: ``QUANTILES`` non-decreasing heights (um), not all equal, and an
+    iteration count in ``ITERATIONS``."""
+    extra = sorted(set(marginal) - {"method", "quantiles_um", "tail_probability", "iterations"})
+    missing = sorted({"quantiles_um", "tail_probability", "iterations"} - set(marginal))
+    if extra or missing:
+        raise ModelFileError("the iaaft marginal takes method, quantiles_um, tail_probability "
+                             "and iterations"
+                             + (f"; unknown {', '.join(map(str, extra))}" if extra else "")
+                             + (f"; lacks {', '.join(missing)}" if missing else ""))
+    q = marginal["quantiles_um"]
+    if not isinstance(q, (list, tuple)) or not QUANTILES[0] <= len(q) <= QUANTILES[1]:
+        raise ModelFileError(f"quantiles_um must be a list of {QUANTILES[0]} to {QUANTILES[1]} "
+                             f"heights (um), got {type(q).__name__}"
+                             + (f" of {len(q)}" if isinstance(q, (list, tuple)) else ""))
+    q = _numbers("quantiles_um", q)
+    if any(b < a for a, b in zip(q, q[1:])) or not q[-1] > q[0]:
+        raise ModelFileError("quantiles_um must be non-decreasing and not all equal (the "
+                             "quantile function of the heights)")
+    number("tail_probability", marginal["tail_probability"], where="marginal tail_probability")
+    n = marginal["iterations"]
+    if not isinstance(n, int) or isinstance(n, bool) or not ITERATIONS[0] <= n <= ITERATIONS[1]:
+        raise ModelFileError(f"marginal iterations must be an integer in [{ITERATIONS[0]}, "
+                             f"{ITERATIONS[1]}], got {n!r}")
+
+
+def _check_psd(hp):
+    """The measured-psd model's table: a list of ``PSD_RADII`` rows of ``PSD_ANGLES`` numbers
+    >= 0, not all 0, over frequencies ``frequency_min_per_um`` < ``frequency_max_per_um``."""
+    rows = hp["psd_um4"]
+    if not isinstance(rows, list) or not PSD_RADII[0] <= len(rows) <= PSD_RADII[1]:
+        raise ModelFileError(f"psd_um4 must be a list of {PSD_RADII[0]} to {PSD_RADII[1]} rows "
+                             f"(radial bins), got {type(rows).__name__}"
+                             + (f" of {len(rows)}" if isinstance(rows, list) else ""))
+    width = len(rows[0]) if isinstance(rows[0], list) else None
+    if width is None or not PSD_ANGLES[0] <= width <= PSD_ANGLES[1]:
+        raise ModelFileError(f"psd_um4 rows must be lists of {PSD_ANGLES[0]} to {PSD_ANGLES[1]} "
+                             f"numbers (angular bins), got {rows[0]!r:.60}")
+    total = 0.0
+    for i, row in enumerate(rows):
+        if not isinstance(row, list) or len(row) != width:
+            raise ModelFileError(f"psd_um4[{i}] must be a list of {width} numbers like row 0")
+        total += sum(number("psd_um4", v, where=f"psd_um4[{i}][{j}]") for j, v in enumerate(row))
+    if not total > 0:
+        raise ModelFileError("psd_um4 must hold at least one value > 0")
+    low = number("frequency_min_per_um", hp["frequency_min_per_um"])
+    high = number("frequency_max_per_um", hp["frequency_max_per_um"])
+    if not low < high:
+        raise ModelFileError(f"frequency_min_per_um must be smaller than frequency_max_per_um, "
+                             f"got {low:g} and {high:g}")
 
 
 def _check_cutoffs(cutoffs):
