@@ -69,8 +69,10 @@ def test_a_model_with_the_iaaft_marginal_reproduces_the_heights():
     gaussian = fit_psd_model(z, 1.0).model.simulate((96, 96), seed=3, n_samples=6)
     assert abs(np.median(simulated) - measured) < 0.25 * measured
     assert max(abs(skew(s)) for s in gaussian) < 0.5  # the Gaussian rung cannot
-    # each simulation is a sample: its extremes vary (no copy of the measured ones)
-    assert len({float(s.max()) for s in sims}) == 6
+    # each simulation is a sample of the population: its extremes vary (no copy of the
+    # measured ones; two crops may share a value of the population's discrete set)
+    maxima = {float(s.max()) for s in sims}
+    assert len(maxima) >= 3 and maxima != {float(z.max())}
 
 
 def test_seeded_and_on_every_surface_equation(tmp_path):

@@ -137,8 +137,7 @@ def fit_psd_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, axi
     texture, cutoffs, heights = measured_chain(arr, (dy, dx), form, s, l, degree, axis,
                                                "form-removed")
     measured = np.isfinite(heights)
-    qy, qx, c = psd_table.periodogram(heights, (dy, dx))
-    table, f_min, f_max = psd_table.log_polar_table(qy, qx, c)
+    table, f_min, f_max = psd_table.estimate(heights, (dy, dx))
     variance = float(np.var(heights[measured]))
     table *= variance / psd_table.table_variance(table, f_min, f_max, (dy, dx), arr.shape)
     hyper = {"psd_um4": table.tolist(), "frequency_min_per_um": f_min,
