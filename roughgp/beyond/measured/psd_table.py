@@ -24,7 +24,11 @@ variant. This module holds the three steps:
   differences hold little there, and the leak from higher frequencies, divided by the small
   transmission, raised the lowest rings (the simulations' Sal 5.8 um against the measured 4.4
   um). Both leaks only add power, so :func:`estimate` keeps, in each bin of the smoothed
-  table, the lower of the plain and the prewhitened estimates. The table is then scaled to the
+  table, the lower of the plain and the prewhitened estimates where one is more than twice the
+  other (:data:`LEAK_RATIO`), and their mean elsewhere: the lower of two noisy estimates of
+  the same value is biased low (by 5 % of the variance on eq 18 surfaces, which the scaling to
+  the measured variance then moved into the filters' pass band: the L-filtered simulations'
+  Sq 2-3 % above the measured). The table is then scaled to the
   measured heights' variance (:func:`~roughgp.beyond.measured.psd_model.fit_psd_model`).
 * **Smooth and store** (:func:`log_polar_table`): each ordinate goes to a bin of
   :data:`N_RADII` logarithmic radial bins from the fundamental frequency (the lowest non-zero
@@ -64,7 +68,7 @@ import numpy as np
 import scipy.fft
 import scipy.signal.windows
 
-__all__ = ["N_RADII", "N_ANGLES", "TAPER", "MIN_ORDINATES", "estimate", "periodogram",
+__all__ = ["N_RADII", "N_ANGLES", "TAPER", "MIN_ORDINATES", "LEAK_RATIO", "estimate", "periodogram",
            "log_polar_table",
            "psd_at",
            "torus_shape", "MAX_TORUS_POINTS", "synthesize", "acvf_grid", "table_variance"]
@@ -72,6 +76,7 @@ __all__ = ["N_RADII", "N_ANGLES", "TAPER", "MIN_ORDINATES", "estimate", "periodo
 N_RADII = 40  #: logarithmic radial bins of the stored PSD
 N_ANGLES = 36  #: angular bins of the stored PSD (5 degrees each, over 180)
 MIN_ORDINATES = 8  #: ordinates a bin's value averages at least (4 independent: +-50 %)
+LEAK_RATIO = 2.0  #: one estimate this many times the other: the higher one is taken to leak
 TAPER = 0.25  #: share of each axis tapered by the Tukey window (half at each end)
 _FLOOR = 1e-12  #: relative floor under the PSD before its log is interpolated
 
@@ -93,11 +98,14 @@ def _windowed_periodogram(h, spacing):
 
 def estimate(h, spacing):
     """``(table, f_min, f_max)``: the smoothed log-polar PSD of heights ``h`` (NaN where
-    unmeasured): in each bin the lower of the plain and the prewhitened estimates
-    (:func:`periodogram`, :func:`log_polar_table`; module docstring)."""
+    unmeasured): in each bin the mean of the plain and the prewhitened estimates, or the lower
+    where one exceeds the other :data:`LEAK_RATIO` times (:func:`periodogram`,
+    :func:`log_polar_table`; module docstring)."""
     plain = log_polar_table(*periodogram(h, spacing, prewhiten=False))
     whitened = log_polar_table(*periodogram(h, spacing))
-    return np.minimum(plain[0], whitened[0]), plain[1], plain[2]
+    a, b = plain[0], whitened[0]
+    leak = (a > LEAK_RATIO * b) | (b > LEAK_RATIO * a)
+    return np.where(leak, np.minimum(a, b), 0.5 * (a + b)), plain[1], plain[2]
 
 
 def periodogram(h, spacing, prewhiten=True):
