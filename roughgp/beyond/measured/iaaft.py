@@ -119,7 +119,8 @@ def _remap(x, values):
 def iaaft(field, values, iterations=ITERATIONS):
     """``(surface, rounds)``: the Gaussian ``field`` (a surface or a profile) given the
     distribution ``values`` (``field.size`` values, ascending: :func:`quantile_values` or
-    :func:`johnson_values`) and the DFT amplitudes of ``field`` (module docstring); ``rounds``: the rounds run."""
+    :func:`johnson_values`) and the DFT amplitudes of ``field`` (module docstring);
+    ``rounds``: the rounds run."""
     field = np.asarray(field, dtype=np.float64)
     values = np.asarray(values, dtype=np.float64)
     if values.shape != (field.size,):

@@ -153,6 +153,7 @@ def choose_model(z, spacing=1.0, *, rungs=RUNGS, form="plane", s=None, l=None, d
             progress(rung)
     chosen, reason = _better(scored)
     model, notes = fit_rung(chosen.name, arr, spacing, **settings)
-    model = dataclasses.replace(model, fit={**model.fit, "chosen_by": reason, "held_out_rmse_um": {
-        r.name: r.rmse for r in scored}})
+    scores = {r.name: r.rmse for r in scored}
+    model = dataclasses.replace(model, fit={**model.fit, "chosen_by": reason,
+                                            "held_out_rmse_um": scores})
     return LadderChoice(tuple(scored), chosen.name, reason, model, tuple(notes))
