@@ -29,7 +29,11 @@ Equations:
   ``nu`` (1.5 or 2.5: smoother surfaces than eq 18's exponential,
   :func:`roughgp.gp.acvf.rotated_matern`), plus Gaussian noise;
 * ``"eq21"``: a profile, the spectral mixture of eq 21 (weights, frequencies, spectral
-  variances) plus Gaussian noise.
+  variances) plus Gaussian noise;
+* ``"measured-psd"``: a surface, the measured PSD itself as a 40 x 36 log-polar table (um^4)
+  over frequencies ``frequency_min_per_um`` to ``frequency_max_per_um``, the nonparametric
+  stationary Gaussian model (:mod:`roughgp.beyond.measured.psd_model`); its noise is in the
+  PSD (``noise_variance_um2`` 0), its ACVF the inverse DFT of the PSD.
 
 Non-Gaussian heights (``marginal = {"skewness": s, "kurtosis": k}``) are drawn as
 :math:`Z = T(X) + e`: the latent surface is the Johnson transform of a pre-distorted GP with the
@@ -37,6 +41,11 @@ fitted latent ACVF (:func:`roughgp.beyond.non_gaussian.non_gaussian_surface`), a
 ``e`` is added after it. With the latent share :math:`w = \sigma_k^2 / (\sigma_k^2 + \sigma^2)`,
 a sum of independent parts has skewness :math:`w^{3/2}` times and excess kurtosis :math:`w^2`
 times the latent one, so the latent targets are the measured ones divided by these factors.
+On the measured-psd model the Johnson marginal is drawn by IAAFT toward the Johnson
+distribution instead (a transform would change the PSD). The IAAFT marginal (``marginal =
+{"method": "iaaft", "quantiles_um": [...], "tail_probability": p, "iterations": n}``) keeps
+the measured heights' quantile function and matches it exactly, on any surface equation
+(:mod:`roughgp.beyond.measured.iaaft`).
 """
 
 from __future__ import annotations
@@ -69,15 +78,17 @@ _MAX_SIMULATE_POINTS = 2 ** 24
 
 @dataclasses.dataclass(frozen=True)
 class FittedModel:
-    """A fitted eq 18 surface model or eq 21 profile model (module docstring).
+    """A fitted surface model (eq 18, its Matérn variant, the measured PSD) or eq 21 profile
+    model (module docstring).
 
     Attributes:
-        equation: ``"eq18"``, ``"eq18-matern"`` or ``"eq21"``.
+        equation: ``"eq18"``, ``"eq18-matern"``, ``"eq21"`` or ``"measured-psd"``.
         hyperparameters: the names of :data:`EQUATIONS` (units in the names: um, um^2, deg,
             1/um); eq 21's are lists of Q values.
         spacing: the grid spacing of the data, ``(dy, dx)`` (surface) or ``(dx,)`` (profile), um.
-        marginal: None (Gaussian heights) or ``{"skewness": s, "kurtosis": k}`` of the heights
-            (Pearson's kurtosis, 3 for Gaussian) that simulations reproduce.
+        marginal: None (Gaussian heights), ``{"skewness": s, "kurtosis": k}`` of the heights
+            (Pearson's kurtosis, 3 for Gaussian; Johnson) or the IAAFT marginal (module
+            docstring) that simulations reproduce.
         operators: the operators applied to the data before the fit, e.g.
             ``["F: cylinder ...", "L: Gaussian 250 um"]`` (they are applied to simulations
             too when a model is checked).
