@@ -215,14 +215,16 @@ class FittedModel:
         if self.equation == "measured-psd":
             from roughgp.beyond.measured.psd_model import draw_psd_model
             return self._returned(draw_psd_model(self, shape, spacing, rng, count,
-                                                 self._remapped if remap else None), n_samples)
+                                                 self._remapper(spacing, True) if remap
+                                                 else None), n_samples)
         if remap:  # on twice the field each way, then cropped (roughgp.beyond.measured.iaaft)
             big = tuple(2 * n for n in shape)
             latent = sample_grid(self.kernel(), big, spacing=spacing, n_samples=count,
                                  method=method, seed=rng)
             z = GaussianNoise(self.noise_variance).sample(latent, seed=rng)
             crop = (slice(None),) + tuple(slice(0, n) for n in shape)
-            return self._returned(np.stack([self._remapped(f) for f in z])[crop], n_samples)
+            remapped = self._remapper(spacing, False)
+            return self._returned(np.stack([remapped(f) for f in z])[crop], n_samples)
         if self.marginal is None:
             latent = sample_grid(self.kernel(), shape, spacing=spacing, n_samples=count,
                                  method=method, seed=rng)
@@ -248,11 +250,22 @@ class FittedModel:
             return "gaussian"
         return self.marginal.get("method", "johnson")
 
+    def _remapper(self, spacing, periodic):
+        """The function that gives a Gaussian draw (at ``spacing``; ``periodic``: a torus) the
+        model's height distribution by IAAFT (:mod:`roughgp.beyond.measured.iaaft`): the
+        stored quantiles, in the band above the L-filter's cut-off when the marginal has
+        ``above_l_um`` (:func:`~roughgp.beyond.measured.iaaft.iaaft_above`), or, for the
+        measured-psd model with a Johnson marginal, the Johnson distribution of the model's
+        skewness, kurtosis, variance and mean (its transform of a Gaussian field would change
+        the PSD)."""
+        from roughgp.beyond.measured import iaaft
+        cut = self.marginal.get("above_l_um") if self.marginal_method == "iaaft" else None
+        if cut is None:
+            return self._remapped
+        return lambda field: iaaft.iaaft_above(field, self._remapped, cut, spacing, periodic)
+
     def _remapped(self, field):
-        """A Gaussian draw given the model's height distribution by IAAFT
-        (:mod:`roughgp.beyond.measured.iaaft`): the stored quantiles, or, for the measured-psd
-        model with a Johnson marginal, the Johnson distribution of the model's skewness,
-        kurtosis, variance and mean (its transform of a Gaussian field would change the PSD)."""
+        """``field`` given the model's height distribution by IAAFT (:meth:`_remapper`)."""
         from roughgp.beyond.measured import iaaft
         if self.marginal_method == "iaaft":
             values = iaaft.quantile_values(self.marginal["quantiles_um"],

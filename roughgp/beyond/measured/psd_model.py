@@ -150,7 +150,8 @@ def fit_psd_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, axi
                       f"{psd_table.N_RADII} x {psd_table.N_ANGLES} log-polar bins of >= "
                       f"{psd_table.MIN_ORDINATES} ordinates (roughgp.beyond.measured.psd_table)"),
            "seed": seed, "seconds": round(time.perf_counter() - start, 2)}
-    model = FittedModel("measured-psd", hyper, (dy, dx), marginal_of(heights, marginal),
+    model = FittedModel("measured-psd", hyper, (dy, dx), marginal_of(heights, marginal, texture.sl,
+                                                           cutoffs["l_um"]),
                         tuple(texture.operators),
                         cutoffs, described, how, "form-removed")
     return PsdModelFit(model, texture, variance)
