@@ -196,6 +196,7 @@ class FittedModel:
         Returns ``z`` of ``shape`` (``(n_samples, *shape)`` when ``n_samples`` is an int):
         the latent GP (Johnson-transformed when the model has a ``marginal``) plus the noise.
         """
+        from roughgp.beyond.measured.psd_table import population_slices
         from roughgp.sampling import sample_grid
         shape = (int(shape),) if np.ndim(shape) == 0 else tuple(int(n) for n in shape)
         want = 2 if self.kind == "surface" else 1
@@ -215,15 +216,15 @@ class FittedModel:
         if self.equation == "measured-psd":
             from roughgp.beyond.measured.psd_model import draw_psd_model
             return self._returned(draw_psd_model(self, shape, spacing, rng, count,
-                                                 self._remapper(spacing, True) if remap
+                                                 self._remapper(spacing, True, rng) if remap
                                                  else None), n_samples)
-        if remap:  # on twice the field each way, then cropped (roughgp.beyond.measured.iaaft)
-            big = tuple(2 * n for n in shape)
+        if remap:  # on twice the field's points, then cropped (roughgp.beyond.measured.iaaft)
+            big = tuple(s.stop for s in population_slices(shape))
             latent = sample_grid(self.kernel(), big, spacing=spacing, n_samples=count,
                                  method=method, seed=rng)
             z = GaussianNoise(self.noise_variance).sample(latent, seed=rng)
             crop = (slice(None),) + tuple(slice(0, n) for n in shape)
-            remapped = self._remapper(spacing, False)
+            remapped = self._remapper(spacing, False, rng)
             return self._returned(np.stack([remapped(f) for f in z])[crop], n_samples)
         if self.marginal is None:
             latent = sample_grid(self.kernel(), shape, spacing=spacing, n_samples=count,
@@ -250,7 +251,7 @@ class FittedModel:
             return "gaussian"
         return self.marginal.get("method", "johnson")
 
-    def _remapper(self, spacing, periodic):
+    def _remapper(self, spacing, periodic, rng):
         """The function that gives a Gaussian draw (at ``spacing``; ``periodic``: a torus) the
         model's height distribution by IAAFT (:mod:`roughgp.beyond.measured.iaaft`): the
         stored quantiles, in the band above the L-filter's cut-off when the marginal has
@@ -260,22 +261,23 @@ class FittedModel:
         the PSD)."""
         from roughgp.beyond.measured import iaaft
         cut = self.marginal.get("above_l_um") if self.marginal_method == "iaaft" else None
+        remapped = lambda field: self._remapped(field, rng)  # noqa: E731
         if cut is None:
-            return self._remapped
-        return lambda field: iaaft.iaaft_above(field, self._remapped, cut, spacing, periodic)
+            return remapped
+        return lambda field: iaaft.iaaft_above(field, remapped, cut, spacing, periodic)
 
-    def _remapped(self, field):
+    def _remapped(self, field, rng):
         """``field`` given the model's height distribution by IAAFT (:meth:`_remapper`)."""
         from roughgp.beyond.measured import iaaft
         if self.marginal_method == "iaaft":
             values = iaaft.quantile_values(self.marginal["quantiles_um"],
-                                           self.marginal["tail_probability"], field.size)
+                                           self.marginal["tail_probability"], field.size, rng)
             iterations = int(self.marginal["iterations"])
         else:
             from roughgp.beyond.non_gaussian.johnson import johnson_for
             johnson = johnson_for(self.marginal["skewness"], self.marginal["kurtosis"],
                                   self.latent_variance())
-            values = iaaft.johnson_values(johnson, field.size) \
+            values = iaaft.johnson_values(johnson, field.size, rng) \
                 + float(self.hyperparameters.get("mean_um", 0.0))
             iterations = iaaft.ITERATIONS
         return iaaft.iaaft(field, values, iterations)[0]

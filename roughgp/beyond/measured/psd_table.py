@@ -71,7 +71,8 @@ import scipy.signal.windows
 __all__ = ["N_RADII", "N_ANGLES", "TAPER", "MIN_ORDINATES", "LEAK_RATIO", "estimate", "periodogram",
            "log_polar_table",
            "psd_at",
-           "torus_shape", "MAX_TORUS_POINTS", "synthesize", "acvf_grid", "table_variance"]
+           "torus_shape", "MAX_TORUS_POINTS", "synthesize", "population_slices", "acvf_grid",
+           "table_variance"]
 
 N_RADII = 40  #: logarithmic radial bins of the stored PSD
 N_ANGLES = 36  #: angular bins of the stored PSD (5 degrees each, over 180)
@@ -272,10 +273,17 @@ def synthesize(table, f_min, f_max, shape, spacing, rng, n_samples=1, transform=
     for k in range(n_samples):
         white = rng.standard_normal(torus)
         field = scipy.fft.irfft2(scipy.fft.rfft2(white) * amplitude, s=torus)
-        if transform is not None:
-            field = transform(field)
+        if transform is not None:  # on a population of twice the field's points
+            field = transform(field[population_slices(shape)])
         out[k] = field[:shape[0], :shape[1]]
     return out
+
+
+def population_slices(shape):
+    """The region a rank remap is made on before the field of ``shape`` is cropped from it:
+    :math:`\lceil\sqrt 2\,n\rceil` points along each side, twice the field's points
+    (:mod:`roughgp.beyond.measured.iaaft`)."""
+    return tuple(slice(0, math.ceil(math.sqrt(2.0) * n)) for n in shape)
 
 
 def acvf_grid(table, f_min, f_max, shape, spacing):
