@@ -58,10 +58,9 @@ long waves), the long waves added back unchanged.
 The population has exactly the target distribution (step 3 is last) and a DFT amplitude
 spectrum close to the Gaussian draw's (step 4 is exact before the last remap; the tests
 measure how close). Everything random is in steps 1 and 3's sample, drawn from the model's
-seeded generator: the
-same seed gives the same surface. A fixed set of values (the plotting positions) gave every
-simulation the same population extremes: half of them had the very same maximum. The
-DFT treats the field as periodic; its amplitudes include the draw's edges, and the iterations
+seeded generator: the same seed gives the same surface. A fixed set of values (the plotting
+positions) gave every simulation the same population extremes: half of them had the very
+same maximum. The DFT treats the field as periodic; its amplitudes include the draw's edges, and the iterations
 keep them.
 """
 
