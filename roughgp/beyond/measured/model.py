@@ -216,7 +216,7 @@ class FittedModel:
         if self.equation == "measured-psd":
             from roughgp.beyond.measured.psd_model import draw_psd_model
             return self._returned(draw_psd_model(self, shape, spacing, rng, count,
-                                                 self._remapper(spacing, True, rng) if remap
+                                                 self._remapper(spacing, rng) if remap
                                                  else None), n_samples)
         if remap:  # on twice the field's points, then cropped (roughgp.beyond.measured.iaaft)
             big = tuple(s.stop for s in population_slices(shape))
@@ -224,7 +224,7 @@ class FittedModel:
                                  method=method, seed=rng)
             z = GaussianNoise(self.noise_variance).sample(latent, seed=rng)
             crop = (slice(None),) + tuple(slice(0, n) for n in shape)
-            remapped = self._remapper(spacing, False, rng)
+            remapped = self._remapper(spacing, rng)
             return self._returned(np.stack([remapped(f) for f in z])[crop], n_samples)
         if self.marginal is None:
             latent = sample_grid(self.kernel(), shape, spacing=spacing, n_samples=count,
@@ -251,8 +251,8 @@ class FittedModel:
             return "gaussian"
         return self.marginal.get("method", "johnson")
 
-    def _remapper(self, spacing, periodic, rng):
-        """The function that gives a Gaussian draw (at ``spacing``; ``periodic``: a torus) the
+    def _remapper(self, spacing, rng):
+        """The function that gives a Gaussian draw (at ``spacing``; ``rng``: the sample's) the
         model's height distribution by IAAFT (:mod:`roughgp.beyond.measured.iaaft`): the
         stored quantiles, in the band above the L-filter's cut-off when the marginal has
         ``above_l_um`` (:func:`~roughgp.beyond.measured.iaaft.iaaft_above`), or, for the
@@ -264,7 +264,7 @@ class FittedModel:
         remapped = lambda field: self._remapped(field, rng)  # noqa: E731
         if cut is None:
             return remapped
-        return lambda field: iaaft.iaaft_above(field, remapped, cut, spacing, periodic)
+        return lambda field: iaaft.iaaft_above(field, remapped, cut, spacing)
 
     def _remapped(self, field, rng):
         """``field`` given the model's height distribution by IAAFT (:meth:`_remapper`)."""
