@@ -60,8 +60,8 @@ spectrum close to the Gaussian draw's (step 4 is exact before the last remap; th
 measure how close). Everything random is in steps 1 and 3's sample, drawn from the model's
 seeded generator: the same seed gives the same surface. A fixed set of values (the plotting
 positions) gave every simulation the same population extremes: half of them had the very
-same maximum. The DFT treats the field as periodic; its amplitudes include the draw's edges, and the iterations
-keep them.
+same maximum. The DFT treats the field as periodic; its amplitudes include the draw's edges,
+and the iterations keep them.
 """
 
 from __future__ import annotations
@@ -172,8 +172,8 @@ def iaaft_above(field, remap, l_um, spacing):
     """``field`` split by the Gaussian L-filter of cut-off ``l_um`` (ISO 16610-21, the edges
     reflected: the population is a crop, not a torus; a periodic filter there put steps at its
     edges and 8 of 13 parameters of data/sample-land.x3p outside, 3 without) into the long
-    waves it takes out and the rest; the rest given the target distribution by ``remap`` (:func:`iaaft`), the long waves
-    added back (module docstring)."""
+    waves it takes out and the rest; the rest given the target distribution by ``remap``
+    (:func:`iaaft`), the long waves added back (module docstring)."""
     sigma = _ALPHA * l_um / math.sqrt(2.0 * math.pi)
     sigmas = [sigma / d for d in np.broadcast_to(spacing, (field.ndim,))]
     low = scipy.ndimage.gaussian_filter(field, sigmas, mode="reflect")
