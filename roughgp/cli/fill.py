@@ -65,7 +65,9 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                         "the filled points (calibrated by the self-check; Gaussian 1.96 sd "
                         "with --no-check)")
     f.add_argument("--model", metavar="MODEL.json",
-                   help="use this eq 18 model file (roughgp fit ground) instead of a fit")
+                   help="use this surface model file (roughgp fit ground: eq 18, Matern, or "
+                        "the measured PSD, whose ACVF is the inverse DFT of its PSD) instead "
+                        "of a fit")
     add_form_options(f, "F-operator removed and added back")
     add_spurious_options(f)
     f.add_argument("--nu", choices=("0.5", "1.5", "2.5", "auto"), default="0.5",

@@ -75,8 +75,22 @@ and 'roughgp simulate --from' put the simulations through them as the measuremen
 (like with like). --non-gaussian keeps the heights' skewness and kurtosis in the model (its
 simulations are then Johnson-transformed GPs, roughgp.beyond.non_gaussian).
 
-example:
-  roughgp fit ground land.x3p --form cylinder --out land-model.json"""
+--model chooses the rung of the ladder of models (roughgp.beyond.measured.ladder):
+  eq18    the paper's eq 18 (default; --nu 1.5 or 2.5 makes it the Matern variant);
+  matern  eq 18's anisotropy with a Matern profile, nu = --nu if 1.5 or 2.5, else 1.5;
+  psd     the measured PSD itself, smoothed (roughgp.beyond.measured.psd_model): no
+          parametric form, the bound of what any stationary Gaussian model can do on the file;
+  auto    fits the three without 2 % of the measured points (held out in small discs),
+          predicts those by kriging with each model's covariance, prints one line per model
+          (held-out RMSE, seconds) and keeps the simplest within one standard error of the
+          best; the chosen one is fitted again on all points.
+--marginal gaussian|johnson|iaaft: the heights' distribution (johnson: their skewness and
+kurtosis, the same as --non-gaussian; iaaft: their whole distribution, 1001 quantiles, matched
+exactly by iterated amplitude-adjusted Fourier transforms, roughgp.beyond.measured.iaaft).
+
+examples:
+  roughgp fit ground land.x3p --form cylinder --out land-model.json
+  roughgp fit ground map.x3p --model auto --marginal iaaft --out map-model.json"""
 
 
 def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
@@ -117,6 +131,12 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     g.add_argument("--nu", type=float, choices=(0.5, 1.5, 2.5), default=0.5,
                    help="smoothness: 0.5 is eq 18 (default); 1.5 or 2.5 its anisotropy with a "
                         "smoother Matern profile, for smooth surfaces (beyond the paper)")
+    g.add_argument("--model", dest="rung", choices=("eq18", "matern", "psd", "auto"),
+                   default="eq18", help="the model: eq18 (default), matern, psd (the measured "
+                   "PSD) or auto (chosen by a held-out score; see above)")
+    g.add_argument("--marginal", choices=("gaussian", "johnson", "iaaft"), default=None,
+                   help="the heights' distribution (default gaussian; --non-gaussian is "
+                        "johnson)")
     g.add_argument("--block", type=int, default=24, metavar="B",
                    help=f"side of the fit's blocks in points, {bounds_text('--block')} "
                         f"(default 24)")
@@ -193,6 +213,47 @@ def _fit_profile(args, heights, operators, data):
     return model
 
 
+def _marginal_choice(args):
+    if args.marginal is not None and args.non_gaussian and args.marginal != "johnson":
+        raise UsageError(f"--non-gaussian is --marginal johnson; it cannot be combined with "
+                         f"--marginal {args.marginal}")
+    return args.marginal or ("johnson" if args.non_gaussian else "gaussian")
+
+
+def _fit_rungs(args, heights, operators, data, z):
+    """``fit ground --model matern|psd|auto``: the ladder (roughgp.beyond.measured.ladder)."""
+    from roughgp.beyond.measured.ladder import choose_model, fit_rung
+    marginal = _marginal_choice(args)
+    nu = args.nu if args.nu in (1.5, 2.5) else 1.5
+    settings = dict(**operators, marginal=marginal, seed=args.seed, block=args.block,
+                    n_blocks=args.blocks, nu=nu, data=data)
+    if args.rung == "auto":
+        print(f"choosing a model for {args.file} by the kriging of held-out measured points:")
+        print(f"  {'model':<7} {'held-out RMSE (um)':>19} {'+-2 sd held':>12} {'seconds':>8}")
+
+        def show(rung):
+            print(f"  {rung.name:<7} {rung.rmse:>19.5g} {rung.check.coverage():>12.1%} "
+                  f"{rung.seconds:>8.1f}", flush=True)
+        try:
+            choice = choose_model(z, heights.spacing, progress=show, **settings)
+        except ValueError as exc:
+            raise UsageError(f"{args.file}: {exc}") from None
+        print_wrapped(f"chose {choice.chosen}: {choice.reason}")
+        model, notes = choice.model, choice.range_notes
+    else:
+        try:
+            model, notes = fit_rung(args.rung, z, heights.spacing, **settings)
+        except ValueError as exc:
+            raise UsageError(f"{args.file}: {exc}") from None
+    print(f"fitted to {args.file}: {model.describe()}")
+    print_wrapped(f"operators: {'; '.join(model.operators)} (the model describes the heights "
+                  f"after the F-operator; the filters are applied to its simulations)")
+    for note in notes:
+        print_wrapped(f"note: {note}")
+    _print_marginal(model)
+    return model
+
+
 def _fit_ground(args, heights, operators, data):
     from roughgp.beyond.measured.fit import fit_surface_model
     if heights.kind != "surface":
@@ -203,11 +264,14 @@ def _fit_ground(args, heights, operators, data):
     missing = np.isnan(z)
     err(f"{args.file}: {z.shape[0]} x {z.shape[1]} points, spacing "
         f"{heights.spacing[0]:g} x {heights.spacing[1]:g} um ({heights.spacing_source}), "
-        f"{missing.sum()} missing ({missing.mean():.1%}); fitting eq 18 plus noise ...")
+        f"{missing.sum()} missing ({missing.mean():.1%}); fitting "
+        + ("eq 18 plus noise ..." if args.rung == "eq18" else f"--model {args.rung} ..."))
+    if args.rung != "eq18":
+        return _fit_rungs(args, heights, operators, data, z)
     try:
         result = fit_surface_model(z, heights.spacing, **operators, block=args.block,
                                    n_blocks=args.blocks, seed=args.seed, nu=args.nu,
-                                   non_gaussian=args.non_gaussian, data=data)
+                                   marginal=_marginal_choice(args), data=data)
     except ValueError as exc:
         raise UsageError(f"{args.file}: {exc}") from None
     model, fit = result.model, result.block_fit
@@ -233,6 +297,10 @@ def _fit_ground(args, heights, operators, data):
 
 
 def _print_marginal(model):
-    if model.marginal is not None:
+    if model.marginal_method == "johnson":
         print(f"  heights kept non-Gaussian: skewness {model.marginal['skewness']:.3g}, "
               f"kurtosis {model.marginal['kurtosis']:.3g}")
+    elif model.marginal_method == "iaaft":
+        q = model.marginal["quantiles_um"]
+        print(f"  heights kept as measured (IAAFT): {len(q)} quantiles from {q[0]:.4g} to "
+              f"{q[-1]:.4g} um, median {q[len(q) // 2]:.4g} um")

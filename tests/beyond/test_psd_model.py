@@ -39,7 +39,7 @@ def _texture(h):
 def test_periodogram_conserves_the_weighted_variance():
     h = np.random.default_rng(0).standard_normal((40, 60))
     h[5:9, 10:20] = np.nan
-    qy, qx, c = psd_table.periodogram(h, (0.5, 2.0))
+    qy, qx, c = psd_table.periodogram(h, (0.5, 2.0), prewhiten=False)
     assert c.shape == (40, 60)
     total = c.sum() / (40 * 0.5 * 60 * 2.0)
     measured = np.isfinite(h)
@@ -48,10 +48,11 @@ def test_periodogram_conserves_the_weighted_variance():
 
 def test_white_noise_gives_a_flat_table():
     h = np.random.default_rng(1).standard_normal((256, 256))
-    qy, qx, c = psd_table.periodogram(h, (1.0, 1.0))
-    table, f_min, f_max = psd_table.log_polar_table(qy, qx, c)
-    outer = table[20:]  # rings of many ordinates: the flat level (1 um^4 for unit spacing)
-    assert np.median(outer) == pytest.approx(1.0, rel=0.1)
+    for prewhiten in (False, True):
+        table, f_min, f_max = psd_table.log_polar_table(
+            *psd_table.periodogram(h, (1.0, 1.0), prewhiten=prewhiten))
+        outer = table[20:]  # rings of many ordinates: the flat level (1 um^4 for unit spacing)
+        assert np.median(outer) == pytest.approx(1.0, rel=0.1)
     assert f_min == pytest.approx(1 / 256) and f_max == pytest.approx(math.sqrt(0.5))
 
 
@@ -67,11 +68,33 @@ def test_simulations_reproduce_the_measured_texture():
     assert simulated[:, 1].mean() == pytest.approx(measured[1], rel=0.2)
     assert abs(simulated[:, 2].mean() - measured[2]) < 0.15
     # and the simulations' PSD table matches the measured one over the well-estimated rings
-    qy, qx, c = psd_table.periodogram(sims[0], (1.0, 1.0))
-    table, _, _ = psd_table.log_polar_table(qy, qx, c)
+    table, _, _ = psd_table.estimate(sims[0], (1.0, 1.0))
     ratio = np.median(table[15:], axis=1) / np.median(np.asarray(
         model.hyperparameters["psd_um4"])[15:], axis=1)
     assert np.all((ratio > 0.6) & (ratio < 1.6))
+
+
+def test_prewhitening_keeps_the_holes_from_leaking():
+    """A surface whose variance sits at the longest wavelengths (a 1/q^4 spectrum, 848 um^2)
+    plus white noise (1 um^2: 1 um^4 at spacing 1), with holes: mean-filled holes are steps
+    that leak the long waves into the high frequencies of the plain periodogram; the estimate
+    kept (the lower of plain and prewhitened) stays at the known white level there (the true
+    red PSD at the highest rings is below 0.015 um^4)."""
+    rng = np.random.default_rng(3)
+    n = 256
+    qy, qx = np.meshgrid(np.fft.fftfreq(4 * n), np.fft.fftfreq(4 * n), indexing="ij")
+    amplitude = (np.maximum(np.hypot(qy, qx), 1 / (4 * n)) * n) ** -2.0 * 2000.0
+    white = rng.standard_normal((4 * n, 4 * n))
+    red = np.fft.ifft2(np.fft.fft2(white) * amplitude).real[:n, :n]  # cropped: not periodic
+    h = red + rng.standard_normal((n, n))
+    h[rng.random((n, n)) < 0.03] = np.nan
+    h[100:120, 50:90] = np.nan
+    plain, _, _ = psd_table.log_polar_table(*psd_table.periodogram(h, (1.0, 1.0),
+                                                                   prewhiten=False))
+    kept, _, _ = psd_table.estimate(h, (1.0, 1.0))
+    top = slice(34, 40)  # the highest rings
+    assert np.median(plain[top]) > 10.0  # the leak (27 um^4)
+    assert np.median(kept[top]) == pytest.approx(1.0, rel=0.2)
 
 
 def test_a_different_surface_is_told_apart():

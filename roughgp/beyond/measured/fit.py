@@ -108,19 +108,23 @@ def form_removed(z, spacing, cutoffs) -> Texture:
 MARGINALS = ("gaussian", "johnson", "iaaft")
 
 
-def marginal_of(heights, method):
+def marginal_of(heights, method, filtered=None, l_um=None):
     """The ``marginal`` field of a model of ``heights`` (NaN where unmeasured): None for
     ``"gaussian"``, their skewness and kurtosis for ``"johnson"``, their quantile function for
-    ``"iaaft"`` (:mod:`roughgp.beyond.measured.iaaft`)."""
+    ``"iaaft"`` (:mod:`roughgp.beyond.measured.iaaft`); with an L-filter (``l_um``) the IAAFT
+    marginal is that of the ``filtered`` heights, matched in the band the filter passes
+    (``above_l_um``)."""
     if method not in MARGINALS:
         raise ValueError(f"marginal must be one of {list(MARGINALS)}, got {method!r}")
     if method == "gaussian":
         return None
     if method == "iaaft":
         from roughgp.beyond.measured import iaaft
-        quantiles, tail = iaaft.quantile_table(heights)
+        banded = filtered is not None and l_um is not None
+        quantiles, tail = iaaft.quantile_table(filtered if banded else heights)
         return {"method": "iaaft", "quantiles_um": quantiles, "tail_probability": tail,
-                "iterations": iaaft.ITERATIONS}
+                "iterations": iaaft.ITERATIONS, **({"above_l_um": float(l_um)} if banded
+                                                   else {})}
     h = heights[np.isfinite(heights)]
     h = h - h.mean()
     sd = float(np.sqrt(np.mean(h * h)))
@@ -129,10 +133,10 @@ def marginal_of(heights, method):
     return {"skewness": skewness, "kurtosis": max(kurtosis, skewness ** 2 + 1.01)}
 
 
-def _marginal(heights, non_gaussian, marginal):
+def _marginal(heights, non_gaussian, marginal, texture=None, l_um=None):
     if marginal is None:
         marginal = "johnson" if non_gaussian else "gaussian"
-    return marginal_of(heights, marginal)
+    return marginal_of(heights, marginal, None if texture is None else texture.sl, l_um)
 
 
 def _cutoffs(form, s, l, degree, axis):
@@ -195,7 +199,9 @@ def fit_surface_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2,
            "log_likelihood": fit.log_likelihood, "block": block, "n_blocks": len(fit.blocks),
            "seed": seed, "seconds": round(time.perf_counter() - start, 2)}
     model = FittedModel("eq18" if nu == 0.5 else "eq18-matern", hyper, (dy, dx),
-                        _marginal(heights, non_gaussian, marginal), tuple(texture.operators),
+                        _marginal(heights, non_gaussian, marginal,
+                                  texture if stage == "form-removed" else None,
+                                  cutoffs["l_um"]), tuple(texture.operators),
                         cutoffs, described, how, stage)
     model, notes = keep_in_range(model, arr.shape, block)
     return SurfaceModelFit(model, texture, fit, tuple(notes))

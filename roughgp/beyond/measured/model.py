@@ -29,7 +29,11 @@ Equations:
   ``nu`` (1.5 or 2.5: smoother surfaces than eq 18's exponential,
   :func:`roughgp.gp.acvf.rotated_matern`), plus Gaussian noise;
 * ``"eq21"``: a profile, the spectral mixture of eq 21 (weights, frequencies, spectral
-  variances) plus Gaussian noise.
+  variances) plus Gaussian noise;
+* ``"measured-psd"``: a surface, the measured PSD itself as a 40 x 36 log-polar table (um^4)
+  over frequencies ``frequency_min_per_um`` to ``frequency_max_per_um``, the nonparametric
+  stationary Gaussian model (:mod:`roughgp.beyond.measured.psd_model`); its noise is in the
+  PSD (``noise_variance_um2`` 0), its ACVF the inverse DFT of the PSD.
 
 Non-Gaussian heights (``marginal = {"skewness": s, "kurtosis": k}``) are drawn as
 :math:`Z = T(X) + e`: the latent surface is the Johnson transform of a pre-distorted GP with the
@@ -37,6 +41,11 @@ fitted latent ACVF (:func:`roughgp.beyond.non_gaussian.non_gaussian_surface`), a
 ``e`` is added after it. With the latent share :math:`w = \sigma_k^2 / (\sigma_k^2 + \sigma^2)`,
 a sum of independent parts has skewness :math:`w^{3/2}` times and excess kurtosis :math:`w^2`
 times the latent one, so the latent targets are the measured ones divided by these factors.
+On the measured-psd model the Johnson marginal is drawn by IAAFT toward the Johnson
+distribution instead (a transform would change the PSD). The IAAFT marginal (``marginal =
+{"method": "iaaft", "quantiles_um": [...], "tail_probability": p, "iterations": n}``) keeps
+the measured heights' quantile function and matches it exactly, on any surface equation
+(:mod:`roughgp.beyond.measured.iaaft`).
 """
 
 from __future__ import annotations
@@ -70,15 +79,17 @@ _MAX_SIMULATE_POINTS = 2 ** 24
 
 @dataclasses.dataclass(frozen=True)
 class FittedModel:
-    """A fitted eq 18 surface model or eq 21 profile model (module docstring).
+    """A fitted surface model (eq 18, its Matérn variant, the measured PSD) or eq 21 profile
+    model (module docstring).
 
     Attributes:
-        equation: ``"eq18"``, ``"eq18-matern"`` or ``"eq21"``.
+        equation: ``"eq18"``, ``"eq18-matern"``, ``"eq21"`` or ``"measured-psd"``.
         hyperparameters: the names of :data:`EQUATIONS` (units in the names: um, um^2, deg,
             1/um); eq 21's are lists of Q values.
         spacing: the grid spacing of the data, ``(dy, dx)`` (surface) or ``(dx,)`` (profile), um.
-        marginal: None (Gaussian heights) or ``{"skewness": s, "kurtosis": k}`` of the heights
-            (Pearson's kurtosis, 3 for Gaussian) that simulations reproduce.
+        marginal: None (Gaussian heights), ``{"skewness": s, "kurtosis": k}`` of the heights
+            (Pearson's kurtosis, 3 for Gaussian; Johnson) or the IAAFT marginal (module
+            docstring) that simulations reproduce.
         operators: the operators applied to the data before the fit, e.g.
             ``["F: cylinder ...", "L: Gaussian 250 um"]`` (they are applied to simulations
             too when a model is checked).
@@ -186,6 +197,7 @@ class FittedModel:
         Returns ``z`` of ``shape`` (``(n_samples, *shape)`` when ``n_samples`` is an int):
         the latent GP (Johnson-transformed when the model has a ``marginal``) plus the noise.
         """
+        from roughgp.beyond.measured.psd_table import population_slices
         from roughgp.sampling import sample_grid
         shape = (int(shape),) if np.ndim(shape) == 0 else tuple(int(n) for n in shape)
         want = 2 if self.kind == "surface" else 1
@@ -205,14 +217,16 @@ class FittedModel:
         if self.equation == "measured-psd":
             from roughgp.beyond.measured.psd_model import draw_psd_model
             return self._returned(draw_psd_model(self, shape, spacing, rng, count,
-                                                 self._remapped if remap else None), n_samples)
-        if remap:  # on twice the field each way, then cropped (roughgp.beyond.measured.iaaft)
-            big = tuple(2 * n for n in shape)
+                                                 self._remapper(spacing, rng) if remap
+                                                 else None), n_samples)
+        if remap:  # on twice the field's points, then cropped (roughgp.beyond.measured.iaaft)
+            big = tuple(s.stop for s in population_slices(shape))
             latent = sample_grid(self.kernel(), big, spacing=spacing, n_samples=count,
                                  method=method, seed=rng)
             z = GaussianNoise(self.noise_variance).sample(latent, seed=rng)
             crop = (slice(None),) + tuple(slice(0, n) for n in shape)
-            return self._returned(np.stack([self._remapped(f) for f in z])[crop], n_samples)
+            remapped = self._remapper(spacing, rng)
+            return self._returned(np.stack([remapped(f) for f in z])[crop], n_samples)
         if self.marginal is None:
             latent = sample_grid(self.kernel(), shape, spacing=spacing, n_samples=count,
                                  method=method, seed=rng)
@@ -238,21 +252,33 @@ class FittedModel:
             return "gaussian"
         return self.marginal.get("method", "johnson")
 
-    def _remapped(self, field):
-        """A Gaussian draw given the model's height distribution by IAAFT
-        (:mod:`roughgp.beyond.measured.iaaft`): the stored quantiles, or, for the measured-psd
-        model with a Johnson marginal, the Johnson distribution of the model's skewness,
-        kurtosis, variance and mean (its transform of a Gaussian field would change the PSD)."""
+    def _remapper(self, spacing, rng):
+        """The function that gives a Gaussian draw (at ``spacing``; ``rng``: the sample's) the
+        model's height distribution by IAAFT (:mod:`roughgp.beyond.measured.iaaft`): the
+        stored quantiles, in the band above the L-filter's cut-off when the marginal has
+        ``above_l_um`` (:func:`~roughgp.beyond.measured.iaaft.iaaft_above`), or, for the
+        measured-psd model with a Johnson marginal, the Johnson distribution of the model's
+        skewness, kurtosis, variance and mean (its transform of a Gaussian field would change
+        the PSD)."""
+        from roughgp.beyond.measured import iaaft
+        cut = self.marginal.get("above_l_um") if self.marginal_method == "iaaft" else None
+        remapped = lambda field: self._remapped(field, rng)  # noqa: E731
+        if cut is None:
+            return remapped
+        return lambda field: iaaft.iaaft_above(field, remapped, cut, spacing)
+
+    def _remapped(self, field, rng):
+        """``field`` given the model's height distribution by IAAFT (:meth:`_remapper`)."""
         from roughgp.beyond.measured import iaaft
         if self.marginal_method == "iaaft":
             values = iaaft.quantile_values(self.marginal["quantiles_um"],
-                                           self.marginal["tail_probability"], field.size)
+                                           self.marginal["tail_probability"], field.size, rng)
             iterations = int(self.marginal["iterations"])
         else:
             from roughgp.beyond.non_gaussian.johnson import johnson_for
             johnson = johnson_for(self.marginal["skewness"], self.marginal["kurtosis"],
                                   self.latent_variance())
-            values = iaaft.johnson_values(johnson, field.size) \
+            values = iaaft.johnson_values(johnson, field.size, rng) \
                 + float(self.hyperparameters.get("mean_um", 0.0))
             iterations = iaaft.ITERATIONS
         return iaaft.iaaft(field, values, iterations)[0]

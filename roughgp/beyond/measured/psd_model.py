@@ -137,8 +137,7 @@ def fit_psd_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, axi
     texture, cutoffs, heights = measured_chain(arr, (dy, dx), form, s, l, degree, axis,
                                                "form-removed")
     measured = np.isfinite(heights)
-    qy, qx, c = psd_table.periodogram(heights, (dy, dx))
-    table, f_min, f_max = psd_table.log_polar_table(qy, qx, c)
+    table, f_min, f_max = psd_table.estimate(heights, (dy, dx))
     variance = float(np.var(heights[measured]))
     table *= variance / psd_table.table_variance(table, f_min, f_max, (dy, dx), arr.shape)
     hyper = {"psd_um4": table.tolist(), "frequency_min_per_um": f_min,
@@ -151,7 +150,8 @@ def fit_psd_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, axi
                       f"{psd_table.N_RADII} x {psd_table.N_ANGLES} log-polar bins of >= "
                       f"{psd_table.MIN_ORDINATES} ordinates (roughgp.beyond.measured.psd_table)"),
            "seed": seed, "seconds": round(time.perf_counter() - start, 2)}
-    model = FittedModel("measured-psd", hyper, (dy, dx), marginal_of(heights, marginal),
+    model = FittedModel("measured-psd", hyper, (dy, dx), marginal_of(heights, marginal, texture.sl,
+                                                           cutoffs["l_um"]),
                         tuple(texture.operators),
                         cutoffs, described, how, "form-removed")
     return PsdModelFit(model, texture, variance)

@@ -185,7 +185,8 @@ def check_fields(equation, hyperparameters, spacing, marginal, cutoffs, stage, o
 def _check_iaaft(marginal):
     """The IAAFT marginal: ``QUANTILES`` non-decreasing heights (um), not all equal, and an
     iteration count in ``ITERATIONS``."""
-    extra = sorted(set(marginal) - {"method", "quantiles_um", "tail_probability", "iterations"})
+    extra = sorted(set(marginal) - {"method", "quantiles_um", "tail_probability", "iterations",
+                                    "above_l_um"})
     missing = sorted({"quantiles_um", "tail_probability", "iterations"} - set(marginal))
     if extra or missing:
         raise ModelFileError("the iaaft marginal takes method, quantiles_um, tail_probability "
@@ -202,6 +203,8 @@ def _check_iaaft(marginal):
         raise ModelFileError("quantiles_um must be non-decreasing and not all equal (the "
                              "quantile function of the heights)")
     number("tail_probability", marginal["tail_probability"], where="marginal tail_probability")
+    if "above_l_um" in marginal:
+        number("l_um", marginal["above_l_um"], where="marginal above_l_um")
     n = marginal["iterations"]
     if not isinstance(n, int) or isinstance(n, bool) or not ITERATIONS[0] <= n <= ITERATIONS[1]:
         raise ModelFileError(f"marginal iterations must be an integer in [{ITERATIONS[0]}, "

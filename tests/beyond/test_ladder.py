@@ -1,0 +1,47 @@
+"""The ladder of models (roughgp.beyond.measured.ladder): the held-out choice can say no."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from roughgp.beyond.measured.ladder import RUNGS, choose_model, fit_rung
+from roughgp.gp.kernels import RotatedExponentialKernel
+from roughgp.sampling import sample_grid
+
+
+def test_a_smooth_surface_is_not_given_the_rough_eq18():
+    """A Matern 2.5 surface (smooth at short lags) with little noise: eq 18's exponential ACVF
+    predicts held-out points clearly worse, so auto does not stay on eq 18."""
+    from roughgp.gp.acvf import rotated_matern
+    acvf = lambda lags: rotated_matern(lags, 1.0, np.array([6.0, 3.0]), 0.3, 2.5)  # noqa: E731
+    z = sample_grid(acvf, (96, 96), seed=2)[0]
+    z = z + 0.01 * np.random.default_rng(0).standard_normal(z.shape)
+    choice = choose_model(z, 1.0, n_blocks=6)
+    scores = {r.name: r.rmse for r in choice.rungs}
+    assert choice.chosen != "eq18" and scores["eq18"] > 1.2 * min(scores.values()), scores
+
+
+def test_an_eq18_surface_keeps_the_simplest_rung_within_the_error():
+    kernel = RotatedExponentialKernel(1.0, (6.0, 3.0), math.radians(20))
+    z = sample_grid(kernel, (96, 96), seed=3)[0]
+    z = z + 0.2 * np.random.default_rng(1).standard_normal(z.shape)
+    choice = choose_model(z, 1.0, n_blocks=6, rungs=("eq18", "psd"))
+    assert [r.name for r in choice.rungs] == ["eq18", "psd"]
+    assert choice.chosen == "eq18", choice.reason  # the true family, within one error
+    assert choice.model.equation == "eq18" and "chosen_by" in choice.model.fit
+
+
+def test_refusals():
+    z = np.random.default_rng(0).standard_normal((20, 20))
+    with pytest.raises(ValueError, match="too few to hold some out"):
+        choose_model(z, 1.0)
+    with pytest.raises(ValueError, match="rungs must be"):
+        choose_model(np.zeros((80, 80)), 1.0, rungs=("spline",))
+    with pytest.raises(ValueError, match="the rung must be one of"):
+        fit_rung("spline", z, 1.0)
+    with pytest.raises(ValueError, match="nu of the matern rung"):
+        fit_rung("matern", z, 1.0, nu=0.5)
+    assert RUNGS == ("eq18", "matern", "psd")

@@ -1,0 +1,82 @@
+"""``roughgp fit ground --model eq18|matern|psd|auto`` and ``--marginal``: the ladder of models
+on the command line, and its models read by ``simulate --from``, ``check`` and ``fill
+--model``."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from roughgp.gp.kernels import RotatedExponentialKernel
+from roughgp.metrology import x3p
+from roughgp.metrology.writers import write_heights
+from roughgp.sampling import sample_grid
+from cli_run import run
+
+
+@pytest.fixture(scope="module")
+def surface(tmp_path_factory):
+    """An eq 18 surface, 96 x 96 at 0.5 um, lognormal heights, with a hole."""
+    kernel = RotatedExponentialKernel(1.0, (4.0, 1.5), math.radians(30))
+    z = np.exp(0.6 * sample_grid(kernel, (96, 96), spacing=0.5, seed=4)[0])
+    z[30:40, 50:64] = np.nan
+    path = tmp_path_factory.mktemp("ladder") / "s.x3p"
+    write_heights(path, z, 0.5, "test surface")
+    return path
+
+
+def test_psd_model_with_iaaft_through_simulate_check_and_fill(capsys, tmp_path, surface):
+    model = tmp_path / "psd.json"
+    code, out, err = run(capsys, "fit", "ground", surface, "--model", "psd", "--marginal",
+                         "iaaft", "--l-filter", "none", "--out", model)
+    assert code == 0, err
+    record = json.loads(model.read_text())
+    assert record["equation"] == "measured-psd" and record["marginal"]["method"] == "iaaft"
+    assert "measured PSD" in out and "IAAFT" in out
+    sim = tmp_path / "sim.x3p"
+    code, _, err = run(capsys, "simulate", "--from", model, "--shape", 40, 70, "--seed", 2,
+                       "--out", sim)
+    assert code == 0, err
+    assert x3p.read_x3p(sim).z.shape == (40, 70)
+    code, out, err = run(capsys, "check", model, surface, "--simulations", 9, "--json",
+                         tmp_path / "c.json")
+    assert code == 0, err
+    outside = json.loads((tmp_path / "c.json").read_text())["outside"]
+    assert len(outside) <= 4, outside  # its own measurement: few outside
+    code, out, err = run(capsys, "fill", surface, "--model", model, "--out",
+                         tmp_path / "filled.x3p")
+    assert code == 0, err
+    filled = x3p.read_x3p(tmp_path / "filled.x3p").z
+    assert np.isfinite(filled).all()
+
+
+def test_auto_prints_each_candidate_and_why(capsys, tmp_path, surface):
+    model = tmp_path / "auto.json"
+    code, out, err = run(capsys, "fit", "ground", surface, "--model", "auto", "--blocks", "4",
+                         "--out", model)
+    assert code == 0, err
+    lines = [line.split() for line in out.splitlines()]
+    scored = {w[0]: float(w[1]) for w in lines if w and w[0] in ("eq18", "matern", "psd")}
+    assert set(scored) == {"eq18", "matern", "psd"} and all(v > 0 for v in scored.values())
+    assert "chose " in out
+    record = json.loads(model.read_text())
+    chosen = {"eq18": "eq18", "eq18-matern": "matern", "measured-psd": "psd"}[
+        record["equation"]]
+    assert f"chose {chosen}" in out and "chosen_by" in record["fit"]
+    assert set(record["fit"]["held_out_rmse_um"]) == {"eq18", "matern", "psd"}
+
+
+def test_matern_rung_and_bad_combinations(capsys, tmp_path, surface):
+    code, out, err = run(capsys, "fit", "ground", surface, "--model", "matern", "--blocks",
+                         "4", "--out", tmp_path / "m.json")
+    assert code == 0, err
+    record = json.loads((tmp_path / "m.json").read_text())
+    assert record["equation"] == "eq18-matern" and record["hyperparameters"]["nu"] == 1.5
+    code, _, err = run(capsys, "fit", "ground", surface, "--non-gaussian", "--marginal",
+                       "iaaft")
+    assert code == 2 and "--non-gaussian is --marginal johnson" in err
+    code, _, err = run(capsys, "fit", "ground", surface, "--model", "spline")
+    assert code == 2 and "invalid choice: 'spline'" in err
