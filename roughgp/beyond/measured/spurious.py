@@ -70,7 +70,7 @@ from roughgp.metrology.robust_filters import robust_gaussian_filter
 from roughgp.sampling.grid_sampler import acvf_of
 
 __all__ = ["FALSE_ALARM", "THRESHOLD", "K_SQ", "MEDIAN_SIZE", "ROBUST_CUTOFF_POINTS", "METHODS",
-           "SpuriousPoints", "loo_scores", "detect_spurious", "flag_k_sq", "flag_median",
+           "SpuriousPoints", "loo_scores", "noise_floor", "detect_spurious", "flag_k_sq", "flag_median",
            "flag_robust_filter", "flag_by", "describe_flagged"]
 
 FALSE_ALARM = 1e-4  #: the nominal share of the points of a clean surface flagged
@@ -92,6 +92,8 @@ class SpuriousPoints:
         threshold: the |score| beyond which a point is flagged.
         rounds: fit-and-score rounds run; history: points flagged after each.
         kernel, noise_variance: the last fit's (without the flagged points).
+        floor: the least noise variance scored with (:func:`noise_floor`; 0: none); the
+            scores use ``max(noise_variance, floor)``.
         seconds: wall time.
     """
 
@@ -102,6 +104,7 @@ class SpuriousPoints:
     history: tuple
     kernel: object
     noise_variance: float
+    floor: float
     seconds: float
 
     @property
@@ -194,9 +197,27 @@ def loo_scores(residual, kernel, *, noise_variance, spacing=1.0, excluded=None, 
     return scores
 
 
+def noise_floor(residual) -> float:
+    r"""A robust upper bound of the white-noise variance of the heights ``residual`` (NaN:
+    unmeasured): the second differences along each grid axis,
+    :math:`d_i = z_{i-1} - 2 z_i + z_{i+1}`, have variance :math:`6\sigma^2` plus the
+    surface's own curvature, so :math:`(1.4826\,\mathrm{MAD}(d))^2 / 6` bounds
+    :math:`\sigma^2` from above; the smaller of the two axes is returned. The MAD ignores a few
+    spikes (it breaks down at half the points). 0 where fewer than 3 points in a row are
+    measured."""
+    z = np.asarray(residual, dtype=np.float64)
+    bounds = []
+    for axis in (0, 1):
+        d = np.diff(z, 2, axis=axis)
+        d = d[np.isfinite(d)]
+        if d.size:
+            bounds.append(_robust_sd(d) ** 2 / 6.0)
+    return float(min(bounds)) if bounds else 0.0
+
+
 def detect_spurious(z, *, spacing=1.0, form="plane", degree=2, axis="auto",
                     threshold=THRESHOLD, rounds=4, seed=0, block=24, n_blocks=12,
-                    tile=8, margin=6) -> SpuriousPoints:
+                    tile=8, margin=6, floor=True) -> SpuriousPoints:
     """Flag the spurious measured points of a surface ``z[iy, ix]`` (NaN: unmeasured) by the
     GP's LOO scores under a fit that leaves out the flagged points (module docstring).
 
@@ -210,6 +231,8 @@ def detect_spurious(z, *, spacing=1.0, form="plane", degree=2, axis="auto",
         seed, block, n_blocks: the block fit's (:func:`~roughgp.inference.block_fit.
             fit_ground_to_valid_points`).
         tile, margin: the scoring windows (points).
+        floor: score with the noise variance at least :func:`noise_floor` of the heights
+            (module docstring); False: the fitted one, however small.
     """
     start = time.perf_counter()
     z = np.asarray(z, dtype=np.float64)
@@ -217,15 +240,18 @@ def detect_spurious(z, *, spacing=1.0, form="plane", degree=2, axis="auto",
         raise ValueError(f"z must be a surface z[iy, ix], got shape {z.shape}")
     check_positive("threshold", threshold)
     rounds = check_integer("rounds", rounds, 1)
+    if not isinstance(floor, (bool, np.bool_)):
+        raise ValueError(f"floor must be True or False, got {floor!r}")
     _, sp = normalize(z.shape, spacing)
     residual = remove_form(z, sp, form, degree=degree, axis=axis)[0]
     measured = np.isfinite(residual)
+    least = noise_floor(residual) if floor else 0.0
     flagged = np.zeros(z.shape, bool)
     history, fit = [], None
     for _ in range(rounds):
         fit = fit_ground_to_valid_points(residual, spacing=sp, mask=flagged, block=block,
                                          n_blocks=n_blocks, seed=seed, start=fit)
-        scores = loo_scores(residual, fit.kernel, noise_variance=fit.noise_variance,
+        scores = loo_scores(residual, fit.kernel, noise_variance=max(fit.noise_variance, least),
                             spacing=sp, excluded=flagged, tile=tile, margin=margin)
         new = measured & (np.abs(np.nan_to_num(scores)) > threshold)
         history.append(int(new.sum()))
@@ -233,7 +259,8 @@ def detect_spurious(z, *, spacing=1.0, form="plane", degree=2, axis="auto",
             break
         flagged = new
     return SpuriousPoints(flagged, scores, float(threshold), len(history), tuple(history),
-                          fit.kernel, float(fit.noise_variance), time.perf_counter() - start)
+                          fit.kernel, float(fit.noise_variance), float(least),
+                          time.perf_counter() - start)
 
 
 # --------------------------------------------------------------------------- the metrologists'
