@@ -89,6 +89,7 @@ def test_detector_finds_injected_points_and_robust_rounds_matter():
     assert (robust.flagged & ~case.truth).sum() / (~case.truth).sum() < 1e-3
     assert (one.flagged & case.truth).sum() / n < found  # the first fit hides the small ones
     assert robust.noise_variance < 0.5 * one.noise_variance
+    assert np.array_equal(robust.first_flagged, one.flagged)  # its first round is one pass
 
 
 def test_detector_flags_almost_nothing_on_a_clean_surface():

@@ -95,6 +95,8 @@ class SpuriousPoints:
         floor: the least noise variance scored with (:func:`noise_floor`; 0: none); the
             scores use ``max(noise_variance, floor)``.
         seconds: wall time.
+        first_flagged, first_seconds: the points flagged after the first round, the
+            non-robust detector (``rounds=1``), and the time to it.
     """
 
     flagged: np.ndarray
@@ -106,6 +108,8 @@ class SpuriousPoints:
     noise_variance: float
     floor: float
     seconds: float
+    first_flagged: np.ndarray
+    first_seconds: float
 
     @property
     def count(self) -> int:
@@ -247,7 +251,7 @@ def detect_spurious(z, *, spacing=1.0, form="plane", degree=2, axis="auto",
     measured = np.isfinite(residual)
     least = noise_floor(residual) if floor else 0.0
     flagged = np.zeros(z.shape, bool)
-    history, fit = [], None
+    history, fit, first = [], None, None
     for _ in range(rounds):
         fit = fit_ground_to_valid_points(residual, spacing=sp, mask=flagged, block=block,
                                          n_blocks=n_blocks, seed=seed, start=fit)
@@ -255,12 +259,14 @@ def detect_spurious(z, *, spacing=1.0, form="plane", degree=2, axis="auto",
                             spacing=sp, excluded=flagged, tile=tile, margin=margin)
         new = measured & (np.abs(np.nan_to_num(scores)) > threshold)
         history.append(int(new.sum()))
+        if first is None:
+            first = (new, time.perf_counter() - start)
         if np.array_equal(new, flagged):
             break
         flagged = new
     return SpuriousPoints(flagged, scores, float(threshold), len(history), tuple(history),
                           fit.kernel, float(fit.noise_variance), float(least),
-                          time.perf_counter() - start)
+                          time.perf_counter() - start, *first)
 
 
 # --------------------------------------------------------------------------- the metrologists'
