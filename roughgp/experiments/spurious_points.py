@@ -29,6 +29,7 @@ from roughgp.beyond.measured.self_check import hide_discs, rmse_of, verdict_of
 from roughgp.beyond.measured.spurious import METHODS, detect_spurious, flag_by
 from roughgp.experiments.measured_surfaces import CV_FILES, DATA, centre_crop
 from roughgp.metrology.filters import gaussian_filter
+from roughgp.metrology.form import remove_form
 from roughgp.metrology.measurement import read_measurement
 from roughgp.metrology.robust_filters import robust_gaussian_filter, robust_l_filter
 from roughgp.metrology.stratified import stratified_l_filter
@@ -145,7 +146,8 @@ class RealFileStudy:
     """:func:`real_file_study` on one file.
 
     Attributes:
-        file, shape: the file and the (cropped) map's shape.
+        file, shape: the file and the (cropped) map's shape; residual: its heights with the
+            form removed.
         flagged: the points the GP flagged; summary: how many, where.
         hidden: the measured, unflagged points hidden for the cross-validation.
         rmse: ``{"without flagging": {"GP", "linear"}, "with flagging": {...}}`` at them.
@@ -153,14 +155,15 @@ class RealFileStudy:
         self_check_verdict: the self-check's verdict (with flagging): ``"GP"``, ``"linear"``
             or ``"tie"`` (:func:`~roughgp.beyond.measured.self_check.verdict_of`);
             cv_verdict: the cross-validation's, on its hidden points.
-        floor, noise_variance, history: the detector's noise floor, its last fit's noise
-            variance, the points flagged after each round.
+        floor, noise_variances, history: the detector's noise floor, its first and last
+            fits' noise variances, the points flagged after each round.
         texture: ``{"before": params, "after": params}`` (:data:`TEXTURE_KEYS`).
         seconds: ``{"detection", "fills"}``.
     """
 
     file: str
     shape: tuple
+    residual: np.ndarray
     flagged: np.ndarray
     summary: str
     hidden: np.ndarray
@@ -169,7 +172,7 @@ class RealFileStudy:
     self_check_verdict: str
     cv_verdict: str
     floor: float
-    noise_variance: float
+    noise_variances: tuple
     history: tuple
     texture: dict
     seconds: dict
@@ -202,10 +205,12 @@ def real_file_study(name, *, crop=None, share=0.02, seed=0) -> RealFileStudy:
     for label, heights in (("before", z), ("after", np.where(flagged, np.nan, z))):
         p = filtered_parameters(heights, m.spacing, form=form).parameters
         texture[label] = {k: float(p[k]) for k in TEXTURE_KEYS}
-    return RealFileStudy(name, z.shape, flagged, detected.summary(), hidden, rmse,
+    residual = remove_form(z, m.spacing, form)[0]
+    return RealFileStudy(name, z.shape, residual, flagged, detected.summary(), hidden, rmse,
                          float(np.mean(inside)), gp.self_check.verdict,
                          verdict_of(estimates, truth, hidden), detected.floor,
-                         detected.noise_variance, detected.history, texture,
+                         (detected.first_noise_variance, detected.noise_variance),
+                         detected.history, texture,
                          {"detection": detection_seconds,
                           "fills": time.perf_counter() - start})
 

@@ -95,8 +95,9 @@ class SpuriousPoints:
         floor: the least noise variance scored with (:func:`noise_floor`; 0: none); the
             scores use ``max(noise_variance, floor)``.
         seconds: wall time.
-        first_flagged, first_seconds: the points flagged after the first round, the
-            non-robust detector (``rounds=1``), and the time to it.
+        first_flagged, first_seconds, first_noise_variance: the points flagged after the
+            first round (the non-robust detector, ``rounds=1``), the time to it, its fit's
+            noise variance.
     """
 
     flagged: np.ndarray
@@ -110,6 +111,7 @@ class SpuriousPoints:
     seconds: float
     first_flagged: np.ndarray
     first_seconds: float
+    first_noise_variance: float
 
     @property
     def count(self) -> int:
@@ -254,13 +256,13 @@ def detect_spurious(z, *, spacing=1.0, form="plane", degree=2, axis="auto",
     history, fit, first = [], None, None
     for _ in range(rounds):
         fit = fit_ground_to_valid_points(residual, spacing=sp, mask=flagged, block=block,
-                                         n_blocks=n_blocks, seed=seed, start=fit)
+                                         n_blocks=n_blocks, seed=seed)
         scores = loo_scores(residual, fit.kernel, noise_variance=max(fit.noise_variance, least),
                             spacing=sp, excluded=flagged, tile=tile, margin=margin)
         new = measured & (np.abs(np.nan_to_num(scores)) > threshold)
         history.append(int(new.sum()))
         if first is None:
-            first = (new, time.perf_counter() - start)
+            first = (new, time.perf_counter() - start, float(fit.noise_variance))
         if np.array_equal(new, flagged):
             break
         flagged = new
