@@ -218,8 +218,10 @@ def add_spurious_options(parser) -> None:
     parser.add_argument("--spurious", action="store_true",
                         help="find spurious measured points (spikes, pits) by the GP's "
                              "leave-one-out scores under a fit without them (|score| > 3.89: "
-                             "1e-4 of a clean surface's points) and treat them as unmeasured; "
-                             "prints how many and where (default: no point is removed)")
+                             "1e-4 of a clean surface's points; the noise variance scored with "
+                             "is at least a robust estimate from the heights' second "
+                             "differences) and treat them as unmeasured; prints how many and "
+                             "where (default: no point is removed)")
     parser.add_argument("--flagged", metavar="FILE",
                         help="with --spurious: write the map of flagged points (1 flagged, 0 "
                              "not; .npy, .csv or .x3p)")

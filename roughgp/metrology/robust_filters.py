@@ -8,10 +8,11 @@ the mean line at :math:`x_k` is the polynomial's value there. On a surface (ISO 
 polynomial is in :math:`(x, y)` (1, x, y for order 1; and x², xy, y² for order 2) and the
 weight the product of the two axes' Gaussians.
 
-* Order 0 is the Gaussian filter of ISO 16610-21 / -61 (:func:`roughgp.metrology.filters.
-  gaussian_filter`), its ends corrected to zeroth order. Order 2 fits a parabola: it
-  reproduces a quadratic form exactly up to the ends (the standard's end-effect correction
-  beyond zeroth order). Its constant :math:`\gamma` keeps 50 % transmission at the cut-off:
+* Order 0 is the Gaussian filter of ISO 16610-21 / -61
+  (:func:`roughgp.metrology.filters.gaussian_filter`), its ends corrected to zeroth order.
+  Order 2 fits a parabola: it reproduces a quadratic form exactly up to the ends (the
+  standard's end-effect correction beyond zeroth order). Its constant :math:`\gamma` keeps
+  50 % transmission at the cut-off:
   in the interior the order-2 transmission is :math:`(1 + t)e^{-t}` with
   :math:`t = \pi (\gamma \lambda_c / \lambda)^2`, so :math:`\gamma = \sqrt{t_{1/2}/\pi}`
   with :math:`t_{1/2} = -1 - W_{-1}(-1/(2e))`, :math:`\gamma = 0.7309` (:data:`GAMMA`).
@@ -48,7 +49,7 @@ __all__ = ["GAMMA", "ROBUST_C", "WEIGHT_FLOOR", "RegressionFilter", "regression_
 #: gamma of the Gaussian regression filter, by order: 50 % transmission at the cut-off.
 GAMMA = {0: ALPHA, 1: ALPHA,
          2: math.sqrt((-1.0 - float(lambertw(-0.5 / math.e, -1).real)) / math.pi)}
-ROBUST_C = 4.4  #: c = ROBUST_C * median |r| of ISO 16610-31's Tukey biweight
+ROBUST_C = 4.4  #: c = ROBUST_C * median(abs(r)) of ISO 16610-31's Tukey biweight
 WEIGHT_FLOOR = 1e-7  #: the Gaussian weights are cut where they fall below this
 
 

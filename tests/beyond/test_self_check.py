@@ -128,9 +128,28 @@ def test_self_check_of_a_gaussian_surface_is_calibrated_and_beats_linear():
                                held_out=held)
     assert heavy.coverage() < check.coverage() and heavy.band_factor > check.band_factor + 0.5
     assert "measured points held out and filled (nu 0.5)" in check.summary()
+    assert check.verdict == "GP" and "(the GP better)" in check.summary()
     with pytest.raises(ValueError, match="held_out marks no measured point"):
         sc.self_check_fill(z, GROOVE.kernel(), noise_variance=NOISE, spacing=1.0,
                            held_out=np.zeros(z.shape, dtype=bool))
+
+
+def test_verdict_is_a_tie_within_one_standard_error_and_can_say_either():
+    """Errors drawn per disc: equal spreads give a tie, a clearly smaller spread a verdict for
+    that method; the standard error is over discs, so many points in few discs decide less."""
+    rng = np.random.default_rng(4)
+    held = sc.hide_discs(np.ones((80, 80), dtype=bool), 0.05, seed=1)
+    n = int(held.sum())
+    truth = np.zeros(n)
+    small, large = 0.5 * rng.normal(size=n), 2.0 * rng.normal(size=n)
+    assert sc.verdict_of({"GP": small, "linear": large}, truth, held) == "GP"
+    assert sc.verdict_of({"GP": large, "linear": small}, truth, held) == "linear"
+    ties = [sc.verdict_of({"GP": rng.normal(size=n), "linear": rng.normal(size=n)}, truth, held)
+            for _ in range(20)]
+    assert ties.count("tie") >= 12  # about 68 % of draws of equal spread
+    one_disc = np.zeros((80, 80), dtype=bool)
+    one_disc[10:14, 10:14] = True
+    assert sc.disc_mean_difference(np.ones(16), one_disc)[1] == math.inf
 
 
 def _smooth(seed=2):

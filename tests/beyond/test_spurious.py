@@ -17,6 +17,7 @@ from roughgp.beyond.measured.spurious import (
     flag_median,
     flag_robust_filter,
     loo_scores,
+    noise_floor,
 )
 from roughgp.experiments.spurious_points import GROUND, draw_surface, inject
 from roughgp.sampling.grid_sampler import acvf_of
@@ -88,6 +89,7 @@ def test_detector_finds_injected_points_and_robust_rounds_matter():
     assert (robust.flagged & ~case.truth).sum() / (~case.truth).sum() < 1e-3
     assert (one.flagged & case.truth).sum() / n < found  # the first fit hides the small ones
     assert robust.noise_variance < 0.5 * one.noise_variance
+    assert np.array_equal(robust.first_flagged, one.flagged)  # its first round is one pass
 
 
 def test_detector_flags_almost_nothing_on_a_clean_surface():
@@ -96,6 +98,37 @@ def test_detector_flags_almost_nothing_on_a_clean_surface():
     assert first.flagged.mean() < 1e-3
     again = detect_spurious(z, seed=0)  # the same seed, the same scores
     assert np.array_equal(again.scores, first.scores, equal_nan=True)
+
+
+def test_noise_floor_bounds_the_white_noise_from_above_and_ignores_spikes():
+    """On a smooth surface plus white noise of sd 0.5 the floor is near 0.25; on eq 18 (noise
+    0.1) it is above the noise (the surface's own curvature adds to it); 1 % spikes of 20 sd
+    move it by little; and a surface with no noise gives a floor near 0, not 0.25."""
+    rng = np.random.default_rng(0)
+    y, x = np.mgrid[0:96, 0:96]
+    smooth = np.sin(x / 15.0) + 0.5 * np.cos(y / 20.0)
+    noisy = smooth + 0.5 * rng.normal(size=smooth.shape)
+    assert noise_floor(noisy) == pytest.approx(0.25, rel=0.1)
+    assert noise_floor(smooth) < 1e-3
+    assert noise_floor(_clean((96, 96), seed=9)) > NOISE
+    spiked = inject(noisy, 0.01, seed=1).z
+    assert noise_floor(spiked) == pytest.approx(noise_floor(noisy), rel=0.1)
+    holes = noisy.copy()
+    holes[::3, ::3] = np.nan
+    assert noise_floor(holes) == pytest.approx(0.25, rel=0.15)
+    assert noise_floor(np.full((2, 2), np.nan)) == 0.0
+
+
+def test_floor_keeps_a_collapsed_noise_fit_from_flagging_the_noise():
+    """A smooth surface plus white noise, scored with a noise variance collapsed to 1e-12 (as
+    the fit does on data/sur-2.sur): the scores flag a large share; with the floor in its place,
+    hardly any."""
+    rng = np.random.default_rng(2)
+    z = _clean((48, 48), seed=10) + 0.7 * rng.normal(size=(48, 48))
+    collapsed = loo_scores(z, GROUND.kernel(), noise_variance=1e-12)
+    floored = loo_scores(z, GROUND.kernel(), noise_variance=noise_floor(z))
+    assert np.mean(np.abs(collapsed) > THRESHOLD) > 0.01
+    assert np.mean(np.abs(floored) > THRESHOLD) < 1e-3
 
 
 def test_metrologists_methods_on_a_known_case():
@@ -126,6 +159,7 @@ def test_describe_flagged_says_how_many_and_where():
     (lambda: detect_spurious(np.zeros((20, 20)), threshold=0), "threshold"),
     (lambda: detect_spurious(np.zeros((20, 20)), rounds=0), "rounds"),
     (lambda: detect_spurious(np.zeros(20)), "z"),
+    (lambda: detect_spurious(np.zeros((20, 20)), floor="yes"), "floor"),
     (lambda: flag_by("mad", np.zeros((20, 20))), "method"),
     (lambda: loo_scores(np.full((5, 5), np.nan), GROUND.kernel(), noise_variance=0.1), "fewer"),
 ])
