@@ -20,7 +20,7 @@ from roughgp.metrology.readers import MalformedFileError
 
 __all__ = ["BOUNDS", "check_reading"]
 
-#: What a reading may claim, in µm: ``"height"``: the largest |z|; ``"step"``: the smallest
+#: What a reading may claim, in µm: ``"height"``: the largest ``|z|``; ``"step"``: the smallest
 #: and largest lateral step; ``"field"``: the largest extent of the map along an axis.
 BOUNDS = {"height": 1e6, "step": (1e-6, 1e6), "field": 1e6}
 

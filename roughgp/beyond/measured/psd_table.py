@@ -110,7 +110,7 @@ def estimate(h, spacing):
 
 
 def periodogram(h, spacing, prewhiten=True):
-    """``(qy, qx, C)``: the prewhitened, windowed 2-D periodogram of heights ``h`` (NaN where
+    r"""``(qy, qx, C)``: the prewhitened, windowed 2-D periodogram of heights ``h`` (NaN where
     unmeasured) on the DFT's frequencies (1/um, FFT order) and its values (um^4; module
     docstring): the periodograms of the differences along x and along y, summed and divided
     by the differences' summed transmission :math:`4 \sin^2(\pi q_x \Delta x) + 4
@@ -280,7 +280,7 @@ def synthesize(table, f_min, f_max, shape, spacing, rng, n_samples=1, transform=
 
 
 def population_slices(shape):
-    """The region a rank remap is made on before the field of ``shape`` is cropped from it:
+    r"""The region a rank remap is made on before the field of ``shape`` is cropped from it:
     :math:`\lceil\sqrt 2\,n\rceil` points along each side, twice the field's points
     (:mod:`roughgp.beyond.measured.iaaft`)."""
     return tuple(slice(0, math.ceil(math.sqrt(2.0) * n)) for n in shape)
