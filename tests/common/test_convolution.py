@@ -28,3 +28,12 @@ def test_a_shifted_impulse_lands_where_the_convolution_puts_it():
     a[5] = 1.0
     out = convolve_same(a, [0.0, 0.0, 1.0])  # the kernel's centre is index 1: shift by +1
     assert np.argmax(out) == 6 and out[6] == pytest.approx(1.0)
+
+
+def test_the_fft_length_is_scipys_next_fast_len():
+    """The 5-smooth FFT length taken without scipy.fft is scipy's, for every n up to 3000."""
+    from scipy.fft import next_fast_len
+
+    from roughgp.common import convolution
+    assert [convolution._fast_length(n) for n in range(1, 3001)] == [
+        next_fast_len(n, real=True) for n in range(1, 3001)]

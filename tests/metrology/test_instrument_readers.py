@@ -61,11 +61,16 @@ def test_reading_an_opd_imports_one_reader_and_the_package_still_works_after():
         "from roughgp.metrology.instruments import read_instrument\n"
         "read_instrument('data/opd-1.opd')\n"
         "print('pandas' in sys.modules, 'scipy.signal' in sys.modules,"
-        " 'SurfaceTopography.IO.SUR' in sys.modules)\n"
+        " 'SurfaceTopography.IO.SUR' in sys.modules, 'scipy.optimize' in sys.modules)\n"
         "import SurfaceTopography\n"
         "from SurfaceTopography.IO import open_topography, readers\n"
         "print(SurfaceTopography.__version__ != '', len(readers) > 30,"
-        " open_topography('data/opd-1.opd').format())\n")
-    first, second = out.splitlines()
-    assert first == "False False False"  # neither the other readers nor their dependencies
+        " open_topography('data/opd-1.opd').format())\n"
+        "import NuMPI, NuMPI.MPIStub\n"
+        "print(NuMPI.__version__ != '', NuMPI.MPI is NuMPI.MPIStub,"
+        " hasattr(NuMPI.Optimization, 'l_bfgs'))\n")
+    first, second, third = out.splitlines()
+    # neither the other readers nor their dependencies, nor NuMPI's scipy.optimize
+    assert first == "False False False False"
     assert second == "True True opd"
+    assert third == "True True True"  # the deferred NuMPI is the whole package once asked

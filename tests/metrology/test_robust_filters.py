@@ -235,3 +235,19 @@ def test_flat_profile_is_its_own_mean_line():
     z = np.full(200, 3.0)
     result = regression_filter(z, 1.0, 20.0)
     assert result.converged and np.allclose(result.mean, 3.0)
+
+
+@pytest.mark.parametrize("x", [-0.3678, -0.3, -0.5 / math.e, -0.1, -1e-3, -1e-12, -1e-300])
+def test_the_lower_lambert_w_is_scipys(x):
+    """GAMMA[2]'s W_{-1}, computed without scipy.special, against scipy.special.lambertw."""
+    from scipy.special import lambertw
+
+    from roughgp.metrology import robust_filters
+    assert robust_filters._lambert_w_lower(x) == pytest.approx(lambertw(x, -1).real, rel=1e-14)
+
+
+@pytest.mark.parametrize("x", [0.0, -0.5, 0.1, -1.0 / math.e])
+def test_the_lower_lambert_w_refuses_outside_its_branch(x):
+    from roughgp.metrology import robust_filters
+    with pytest.raises(ValueError, match=r"x must be in \(-1/e, 0\)"):
+        robust_filters._lambert_w_lower(x)
