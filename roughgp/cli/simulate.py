@@ -285,16 +285,22 @@ def _report_achieved(z, spacing, wanted) -> None:
     err("note: one surface scatters about the targets, most in Sal and Str")
 
 
-def _report_sampler(steps, shape, spacing, method) -> None:
+def _report_sampler(steps, shape, spacing, method, device) -> None:
     """Say which exact sampler draws each step's ground surfaces (eq 10) and its cost."""
     from roughgp import sampling
+    from roughgp.sampling import block_levinson
     for i, step in enumerate(steps):
-        chosen, why = sampling.choose_method(step.kernel(), shape, spacing)
+        chosen, why = sampling.choose_method(step.covariance(), shape, spacing)
         which = f"step {i + 1}: " if len(steps) > 1 else ""
         if method == "auto":
             err(f"sampler {which}{chosen} ({why})")
         else:
             err(f"sampler {which}{method} (requested; the cost model: {why})")
+        if (chosen if method == "auto" else method) == "cholesky" and device is None \
+                and block_levinson.worthwhile(shape):
+            err(f"  its factor by block Levinson (the dense factor's draw, about "
+                f"{block_levinson.flops(shape):.2g} flops instead of the dense "
+                f"{math.prod(shape) ** 3 / 3:.2g})")
 
 
 
@@ -422,7 +428,7 @@ def run(args) -> int:
             step = _groove(args, surfaces.FIGURE_2)
         label = f"{what} ground {'surface ' if ny > 1 else ''}(eq 18: {describe_groove(step)}, " \
                 f"noise variance {args.noise_variance:g} um^2)"
-        _report_sampler([step], shape, args.spacing, method)
+        _report_sampler([step], shape, args.spacing, method, device)
         draw = lambda: surfaces.ground(shape, **dataclasses.asdict(step),  # noqa: E731
                                        noise_variance=args.noise_variance,
                                        spacing=args.spacing, seed=seed, method=method,
@@ -433,7 +439,7 @@ def run(args) -> int:
         label = (f"{what} {len(steps)}-step honed {'surface ' if ny > 1 else ''}(eq 19, 20: "
                  + "; ".join(f"step {i + 1}: {describe_groove(s)}" for i, s in enumerate(steps))
                  + f"; noise variance {args.noise_variance:g} um^2)")
-        _report_sampler(steps, shape, args.spacing, method)
+        _report_sampler(steps, shape, args.spacing, method, device)
         draw = lambda: surfaces.honed(shape, steps, noise_variance=args.noise_variance,  # noqa
                                       spacing=args.spacing, seed=seed, method=method,
                                       device=device)

@@ -8,16 +8,24 @@ import sys
 import numpy as np
 
 
-def _as_numpy(value) -> np.ndarray:
-    torch = sys.modules.get("torch")  # a tensor exists only once torch is imported
-    if torch is not None and isinstance(value, torch.Tensor):
+def is_tensor(value) -> bool:
+    """Whether ``value`` is a torch tensor, without importing torch: a tensor exists only once
+    torch is imported, so the numpy paths never load it."""
+    torch = sys.modules.get("torch")
+    return torch is not None and isinstance(value, torch.Tensor)
+
+
+def as_numpy(value) -> np.ndarray:
+    """``value`` as a numpy array (a torch tensor detached and copied to the CPU), without
+    importing torch."""
+    if is_tensor(value):
         return value.detach().cpu().numpy()
     return np.asarray(value)
 
 
 def check_finite(name: str, value) -> None:
     """Raise if any element of ``value`` is NaN or infinite."""
-    arr = _as_numpy(value)
+    arr = as_numpy(value)
     if not np.issubdtype(arr.dtype, np.number):
         raise ValueError(f"{name} must be numeric, got dtype {arr.dtype}")
     if not np.all(np.isfinite(arr)):
@@ -28,7 +36,7 @@ def check_finite(name: str, value) -> None:
 def check_positive(name: str, value) -> None:
     """Raise unless every element of ``value`` is finite and > 0."""
     check_finite(name, value)
-    arr = _as_numpy(value)
+    arr = as_numpy(value)
     if np.any(arr <= 0):
         raise ValueError(f"{name} must be > 0 (allowed range: (0, inf)), got {arr.tolist()!r}")
 
@@ -36,14 +44,14 @@ def check_positive(name: str, value) -> None:
 def check_nonnegative(name: str, value) -> None:
     """Raise unless every element of ``value`` is finite and >= 0."""
     check_finite(name, value)
-    arr = _as_numpy(value)
+    arr = as_numpy(value)
     if np.any(arr < 0):
         raise ValueError(f"{name} must be >= 0 (allowed range: [0, inf)), got {arr.tolist()!r}")
 
 
 def check_shape(name: str, value, shape: tuple) -> None:
     """Raise unless ``value`` has exactly ``shape`` (``None`` in ``shape`` matches any size)."""
-    got = tuple(_as_numpy(value).shape)
+    got = tuple(as_numpy(value).shape)
     ok = len(got) == len(shape) and all(s is None or s == g for s, g in zip(shape, got))
     if not ok:
         parts = ["any" if s is None else str(s) for s in shape]
@@ -69,7 +77,7 @@ def check_size(what: str, count: int, *, copies: int = 1, limit: int = MAX_ARRAY
 
 def check_lags(name: str, lags, dim: int) -> None:
     """Raise unless ``lags`` is finite with a last axis of length ``dim``."""
-    arr = _as_numpy(lags)
+    arr = as_numpy(lags)
     if arr.ndim == 0 or arr.shape[-1] != dim:
         raise ValueError(f"{name} must have shape (..., {dim}) (last axis: the {dim} lag "
                          f"components), got {tuple(arr.shape)}")

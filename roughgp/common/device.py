@@ -27,6 +27,10 @@ numpy, torch-CPU and CUDA streams differ (same distribution, different numbers).
 call draws little noise against its work (dense Cholesky and Lanczos draws) the noise is
 drawn by numpy as on the CPU, so those draws agree with ``device=None`` to rounding.
 
+torch is imported by the functions here when they need it, not with the module: the numpy
+path (``device=None``) never imports it, so a command that draws on the CPU starts without
+torch's seconds of import (issue 32).
+
 ``benchmarks/device.py`` measures every path side by side; ``tests/test_device.py`` checks
 them against numpy (on CUDA too, where torch sees a GPU).
 """
@@ -34,11 +38,14 @@ them against numpy (on CUDA too, where torch sees a GPU).
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
-import torch
 
 from roughgp.common.memory import host_free_bytes
+
+if TYPE_CHECKING:  # the annotations' torch; the functions import it when they run
+    import torch
 
 __all__ = ["resolve", "generator", "free_bytes", "check_memory", "available",
            "synchronize", "gaussian_log_density"]
@@ -52,6 +59,8 @@ def resolve(device, name: str = "device") -> torch.device | None:
     """
     if device is None:
         return None
+    import torch
+
     if not isinstance(device, (str, torch.device)):
         raise ValueError(f"{name} must be None, a string such as 'cpu' or 'cuda', or a "
                          f"torch.device, got {device!r}")
@@ -79,6 +88,8 @@ def resolve(device, name: str = "device") -> torch.device | None:
 def generator(rng: np.random.Generator, device: torch.device) -> torch.Generator:
     """A torch generator on ``device`` seeded by one draw of the numpy ``rng`` (so a numpy
     seed fixes the device stream, and a shared ``rng`` still advances)."""
+    import torch
+
     gen = torch.Generator(device=device)
     gen.manual_seed(int(rng.integers(0, 2**63 - 1)))
     return gen
@@ -87,6 +98,8 @@ def generator(rng: np.random.Generator, device: torch.device) -> torch.Generator
 def free_bytes(device: torch.device) -> int:
     """Memory free for new arrays on ``device`` (the CPU: available physical memory)."""
     if device.type == "cuda":
+        import torch
+
         free, _ = torch.cuda.mem_get_info(device)
         return int(free)
     return host_free_bytes()
@@ -104,6 +117,8 @@ def check_memory(needed: int, device: torch.device, what: str) -> None:
 
 def available() -> list[str]:
     """The devices this machine can use: ``["cpu"]``, plus ``"cuda"`` where torch sees a GPU."""
+    import torch
+
     return ["cpu"] + (["cuda"] if torch.cuda.is_available() else [])
 
 
@@ -111,6 +126,8 @@ def gaussian_log_density(covariance: torch.Tensor, y: torch.Tensor) -> torch.Ten
     """log N(y | 0, covariance) by a Cholesky factor where the tensors lie (eq 12), as a torch
     scalar (differentiable); ``np.linalg.LinAlgError`` where the covariance is not positive
     definite."""
+    import torch
+
     factor, failed = torch.linalg.cholesky_ex(covariance)
     if int(failed):
         raise np.linalg.LinAlgError("covariance not positive definite (Cholesky failed)")
@@ -122,4 +139,6 @@ def gaussian_log_density(covariance: torch.Tensor, y: torch.Tensor) -> torch.Ten
 def synchronize(device: torch.device | None) -> None:
     """Wait for the device's queued work (for timings; a no-op off CUDA)."""
     if device is not None and device.type == "cuda":
+        import torch
+
         torch.cuda.synchronize(device)

@@ -24,12 +24,13 @@ with frequencies ``f`` in cycles per unit length (the unit of the lags) and the 
 from __future__ import annotations
 
 import math
+import sys
 from typing import Callable
 
 import numpy as np
-import torch
 
 from roughgp.common.checks import check_finite, check_lags, check_positive, check_shape
+from roughgp.common.checks import is_tensor as _is_tensor
 
 __all__ = [
     "pairwise_lags",
@@ -53,20 +54,20 @@ MATERN_NUS = (0.5, 1.5, 2.5, math.inf)
 
 def _xp(x):
     """The array namespace of ``x``: ``torch`` for tensors, else ``numpy``."""
-    return torch if isinstance(x, torch.Tensor) else np
+    return sys.modules["torch"] if _is_tensor(x) else np
 
 
 def _like(value, ref):
     """``value`` as an array of the same kind (and, for torch, dtype/device) as ``ref``."""
-    if isinstance(ref, torch.Tensor):
-        return torch.as_tensor(value, dtype=ref.dtype, device=ref.device)
-    if isinstance(value, torch.Tensor):
+    if _is_tensor(ref):
+        return sys.modules["torch"].as_tensor(value, dtype=ref.dtype, device=ref.device)
+    if _is_tensor(value):
         value = value.detach().cpu().numpy()
     return np.asarray(value, dtype=np.result_type(ref, np.float64))
 
 
 def _as_lags(lags):
-    if isinstance(lags, torch.Tensor):
+    if _is_tensor(lags):
         return lags
     return np.asarray(lags, dtype=np.float64)
 
@@ -165,7 +166,7 @@ def rotated_exponential_psd(freqs, variance, lengthscales, angle):
 
 
 def _check_mixture(lags, weights, means, variances, name="lags"):
-    shapes = {k: tuple(np.shape(v.detach() if isinstance(v, torch.Tensor) else v))
+    shapes = {k: tuple(np.shape(v.detach() if _is_tensor(v) else v))
               for k, v in (("weights", weights), ("means", means), ("variances", variances))}
     ok = (len(shapes["means"]) == 2 and shapes["variances"] == shapes["means"]
           and shapes["weights"] == shapes["means"][:1])
@@ -252,7 +253,7 @@ def additive(lags, acvf_x: Callable, acvf_y: Callable):
 
 
 def _check_matern(lags, variance, lengthscale, nu, name="lags"):
-    arr = lags.detach() if isinstance(lags, torch.Tensor) else np.asarray(lags)
+    arr = lags.detach() if _is_tensor(lags) else np.asarray(lags)
     if arr.ndim == 0:
         raise ValueError(f"{name} must have shape (..., D), got a scalar")
     check_lags(name, lags, arr.shape[-1])

@@ -24,8 +24,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from roughgp.common.checks import as_generator as _rng
-from roughgp.gp.kernels import RotatedExponentialKernel
 from roughgp.gp.noise import GaussianNoise
+from roughgp.gp.numpy_kernels import RotatedExponentialACVF
 from roughgp.sampling.grid_sampler import sample_grid
 
 __all__ = ["GrooveParameters", "ground", "honed", "honing_stack", "FIGURE_2", "FIGURE_2_SHAPE", "FIGURE_3",
@@ -46,10 +46,20 @@ class GrooveParameters:
     lengthscales: tuple
     angle: float
 
-    def kernel(self, mirrored: bool = False) -> RotatedExponentialKernel:
-        """The eq 18 kernel, with the angle ``-phi`` when ``mirrored`` (eq 19)."""
+    def kernel(self, mirrored: bool = False):
+        """The eq 18 kernel as a GPyTorch kernel (a
+        :class:`roughgp.gp.kernels.RotatedExponentialKernel`, for fitting), with the angle
+        ``-phi`` when ``mirrored`` (eq 19). Imports torch and GPyTorch."""
+        from roughgp.gp.kernels import RotatedExponentialKernel
         angle = -self.angle if mirrored else self.angle
         return RotatedExponentialKernel(self.variance, self.lengthscales, angle)
+
+    def covariance(self, mirrored: bool = False) -> RotatedExponentialACVF:
+        """The eq 18 ACVF in numpy alone (:mod:`roughgp.gp.numpy_kernels`), with the angle
+        ``-phi`` when ``mirrored`` (eq 19): what the draws of :func:`ground` and
+        :func:`honed` use, so that a draw on the CPU never imports torch."""
+        angle = -self.angle if mirrored else self.angle
+        return RotatedExponentialACVF(self.variance, tuple(self.lengthscales), angle)
 
 
 #: Figure 2: phi = pi/6, sigma_k^2 = 10, lambda_a = 500, lambda_b = 5 on 2000 x 2000 points.
@@ -72,7 +82,7 @@ def _check_surface_shape(shape):
 
 def _draw_ground(parameters: GrooveParameters, shape, *, mirrored, noise, spacing, rng, method,
                  device=None):
-    latent = sample_grid(parameters.kernel(mirrored), shape, spacing=spacing, seed=rng,
+    latent = sample_grid(parameters.covariance(mirrored), shape, spacing=spacing, seed=rng,
                          method=method, device=device)[0]
     return latent if noise is None else noise.sample(latent, seed=rng)
 

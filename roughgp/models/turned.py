@@ -190,10 +190,10 @@ def _edge_function(params, spacing, rng):
 def _flow_field(shape, spacing, params, rng):
     if params.flow_roughness == 0:
         return np.zeros(shape)
-    from roughgp.gp.kernels import MaternKernel
+    from roughgp.gp.numpy_kernels import MaternACVF
     from roughgp.sampling.grid_sampler import sample_grid
-    kernel = MaternKernel(nu=0.5, dim=len(shape), variance=params.flow_roughness ** 2,
-                          lengthscale=params.flow_lengthscale)
+    kernel = MaternACVF(variance=params.flow_roughness ** 2,
+                        lengthscale=params.flow_lengthscale, nu=0.5, dim=len(shape))
     return sample_grid(kernel, shape, spacing=spacing, seed=rng)[0]
 
 

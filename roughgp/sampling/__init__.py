@@ -2,8 +2,9 @@
 
 Modules: :mod:`~roughgp.sampling.grid_sampler` (:func:`sample_grid` with the methods
 ``cholesky``, ``lanczos`` (the paper's), ``circulant`` (exact, O(N log N)) and ``auto``),
-:mod:`~roughgp.sampling.circulant` (circulant embedding: the torus search, explicit
-clipping), :mod:`~roughgp.sampling.truncation` (the smooth truncation of the ACVF beyond the
+:mod:`~roughgp.sampling.block_levinson` (the Cholesky draw of a 2-D grid row by row, in
+:math:`2 n_y^2 n_x^3` flops), :mod:`~roughgp.sampling.circulant` (circulant embedding: the
+torus search, explicit clipping), :mod:`~roughgp.sampling.truncation` (the smooth truncation of the ACVF beyond the
 grid's lags, which keeps R and shrinks the torus toward (2n)^D), :mod:`~roughgp.sampling.fft_filter` (the classic FFT filter, the speed baseline),
 :mod:`~roughgp.sampling.diagnostics` (the covariance error of section 3.1 and its expectation).
 

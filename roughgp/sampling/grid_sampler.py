@@ -2,17 +2,17 @@ r"""Draws of a latent surface on a regular grid, eq 10: :math:`\mathbf G \sim \m
 
 ``sample_grid`` is the single entry point. Methods:
 
-* ``"cholesky"``: exact, dense. :math:`\mathbf R = \mathbf L\mathbf L^\top` and
-  :math:`\mathbf g = \mathbf L\boldsymbol\varepsilon` (the reparameterisation of section 2.2).
-  Memory grows as :math:`N^2` and time as :math:`N^3`: the call refuses, before allocating,
-  when the covariance would not fit in memory.
+* ``"cholesky"``: exact. :math:`\mathbf R = \mathbf L\mathbf L^\top` and
+  :math:`\mathbf g = \mathbf L\boldsymbol\varepsilon` (the reparameterisation of section 2.2);
+  on the CPU, L of a 2-D grid of many rows by block Levinson (the same draw in
+  :math:`2 n_y^2 n_x^3` flops, :mod:`~roughgp.sampling.block_levinson`), else dense (time
+  :math:`N^3`). The call refuses, before allocating, when N² values would not fit in memory.
 * ``"lanczos"``: the paper's approximation (LOVE, Pleiss et al. 2018): GPyTorch's
   ``root_decomposition(method="lanczos")`` with ``rank`` Lanczos iterations gives
   :math:`\mathbf R \approx \mathbf Q\mathbf T\mathbf Q^\top` of rank ``rank``; the draw is
   :math:`\mathbf Q\mathbf T^{1/2}\boldsymbol\varepsilon`. A low rank loses variance: the kept
-  share of the trace is reported. (GPyTorch's own ``MultivariateNormal.rsample()`` does this
-  with ``rank = settings.max_root_decomposition_size`` = 100 by default once N exceeds
-  ``settings.max_cholesky_size`` = 800.)
+  share of the trace is reported (GPyTorch's ``MultivariateNormal.rsample()`` takes rank 100
+  once N exceeds 800).
 * ``"circulant"``: exact in O(N log N) by circulant embedding (:mod:`roughgp.sampling.circulant`);
   an additive kernel (eq 22) is drawn as two profiles and summed, exactly, in O(N).
 * ``"auto"``: the cheapest exact method by a cost model (see :func:`choose_method`).
@@ -30,12 +30,14 @@ from typing import Callable
 import numpy as np
 import scipy.linalg
 
+from roughgp.common.checks import as_numpy
 from roughgp.common.checks import as_generator as _rng
 from roughgp.common.checks import check_size
 from roughgp.common.device import resolve as resolve_device
 from roughgp.common.grid import centred_lags, normalize
 from roughgp.common.memory import host_free_bytes
-from roughgp.sampling import circulant
+from roughgp.gp.numpy_kernels import is_additive
+from roughgp.sampling import block_levinson, circulant
 
 __all__ = ["sample_grid", "grid_covariance", "covariance_index", "choose_method", "SamplingInfo",
            "acvf_of", "METHODS"]
@@ -237,8 +239,8 @@ def _draw_cholesky(kernel, shape, spacing, n_samples, rng, info, device=None):
         samples = (factor @ noise).T.reshape((n_samples, *shape)).cpu().numpy()
     else:
         factor, info.jitter = _cached_factor(table, shape, key, info)
-        noise = rng.standard_normal((factor.shape[0], n_samples))
-        samples = (factor @ noise).T.reshape((n_samples, *shape))
+        noise = rng.standard_normal((math.prod(shape), n_samples))
+        samples = (factor @ noise).T.reshape((n_samples, *shape))  # L e, dense or by blocks
     return samples[..., ::-1] if mirrored else samples
 
 
@@ -261,13 +263,16 @@ def _canonical_table(kernel, shape, spacing):
 
 
 def _cached_factor(table, shape, key, info):
-    """The Cholesky factor and jitter of the covariance of lag ``table`` (numpy), kept in
-    :data:`_FACTORS` by ``key`` (the newest within :data:`_FACTOR_BYTES`), so repeated draws
-    and a honed surface's mirrored grounds factorise once."""
+    """The Cholesky factor (by block Levinson where worthwhile, else dense) and jitter of lag
+    ``table``'s covariance, kept in :data:`_FACTORS` by ``key`` (the newest within
+    :data:`_FACTOR_BYTES`): repeated draws and a honed surface's mirrored grounds factorise once."""
     if key in _FACTORS:
         info.cached = True
         return _FACTORS[key]
-    factor, jitter = _cholesky_factor(_gathered(table, shape))
+    factor, jitter = (block_levinson.factorise(table, shape)
+                      if block_levinson.worthwhile(shape) else None), 0.0
+    if factor is None:
+        factor, jitter = _cholesky_factor(_gathered(table, shape))
     if factor.nbytes <= _FACTOR_BYTES:
         _FACTORS[key] = (factor, jitter)
         while sum(f.nbytes for f, _ in _FACTORS.values()) > _FACTOR_BYTES:
@@ -317,7 +322,7 @@ def _cache_key(kernel, shape, spacing, options):
     hyper = getattr(kernel, "hyperparameters", None)
     if hyper is None:
         return None  # a plain function: no way to tell whether it changed
-    state = tuple((k, tuple(np.atleast_1d(v.detach().cpu().numpy()).ravel().tolist()))
+    state = tuple((k, tuple(np.atleast_1d(as_numpy(v)).ravel().tolist()))
                   for k, v in hyper().items())
     return (type(kernel).__name__, getattr(kernel, "nu", None), state, shape,
             tuple(spacing.tolist()), options)
@@ -340,9 +345,7 @@ def _embedding(kernel, shape, spacing, info, **options):
 
 def _draw_circulant(kernel, shape, spacing, n_samples, rng, info, approximate, dtype,
                     device=None, truncation="smooth"):
-    from roughgp.gp.kernels import AdditiveKernel
-
-    if isinstance(kernel, AdditiveKernel) and len(shape) == 2:
+    if is_additive(kernel) and len(shape) == 2:
         # eq 22: G(x, y) = G_x(x) + G_y(y) with independent profiles, exact in O(N)
         ny, nx = shape
         gx = _draw_circulant(kernel.kernel_x, (nx,), spacing[1:], n_samples, rng, info,
@@ -381,10 +384,8 @@ def choose_method(kernel, shape, spacing=1.0, n_samples=1):
     kept for the kernel's lag table, which its mirror image (eq 19's -phi) shares.
     An additive kernel (eq 22) always goes to the O(N) circulant route.
     """
-    from roughgp.gp.kernels import AdditiveKernel
-
     shape, spacing = normalize(shape, spacing)
-    if isinstance(kernel, AdditiveKernel) and len(shape) == 2:
+    if is_additive(kernel) and len(shape) == 2:
         return "circulant", "additive kernel (eq 22): two exact profiles, O(N)"
     n_points = int(np.prod(shape))
     dense_bytes = 2 * n_points**2 * _BYTES

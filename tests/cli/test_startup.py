@@ -1,6 +1,7 @@
 """The command line starts without torch (issue 32, "a command line that starts in a blink"):
-``roughgp --help`` and ``roughgp texture`` import no torch; the commands that compute with it
-import it themselves. The times are measured by ``benchmarks/cli_startup.py``, not here."""
+``roughgp --help``, ``roughgp texture`` and ``roughgp simulate ground|honed|turned`` on the
+CPU import no torch; the commands that compute with it import it themselves. The times are
+measured by ``benchmarks/cli_startup.py``, not here."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from roughgp.metrology import x3p
 
@@ -45,7 +47,39 @@ def test_texture_of_a_file_imports_no_torch(tmp_path):
     assert "torch" not in modules
 
 
-def test_the_probe_sees_torch_where_a_command_imports_it():
-    """Calibration: the probe above can say no."""
-    modules = _modules_after("import roughgp.common.device")
+def test_texture_of_an_opd_imports_no_scipy_optimize_special_or_fft():
+    """The one-reader path defers NuMPI (its scipy.optimize), the filters convolve with
+    numpy.fft and the robust filters' gamma needs no scipy.special: 0.5-1 s off every
+    ``roughgp texture`` on the 2-core machine (benchmarks/cli_startup.py)."""
+    modules = _modules_after("from roughgp.cli.main import main\n"
+                             "assert main(['texture', 'data/opd-1.opd']) == 0")
+    assert "roughgp.metrology.texture_report" in modules
+    assert not {"torch", "scipy.optimize", "scipy.special", "scipy.fft"} & modules
+
+
+@pytest.mark.parametrize("kind", [
+    ["honed", "--shape", "24", "24", "--method", "cholesky"],
+    ["honed", "--shape", "24", "24", "--method", "circulant"],
+    ["ground", "--shape", "16", "20"],
+    ["turned", "--shape", "32", "32"],
+    ["turned", "--profile", "256"],
+])
+def test_a_draw_on_the_cpu_imports_no_torch(tmp_path, kind):
+    """simulate's exact samplers on the CPU (dense Cholesky, circulant) run in numpy and scipy
+    alone: no torch, no GPyTorch in the process (the draw's kernels are those of
+    roughgp.gp.numpy_kernels)."""
+    out = tmp_path / "s.npy"
+    modules = _modules_after("from roughgp.cli.main import main\n"
+                             f"assert main(['simulate', *{kind!r}, '--seed', '1', "
+                             f"'--out', {str(out)!r}]) == 0")
+    assert "roughgp.models.surfaces" in modules and out.exists()  # the work was done
+    assert "torch" not in modules and "gpytorch" not in modules
+
+
+def test_the_probe_sees_torch_where_a_command_imports_it(tmp_path):
+    """Calibration: the probe above can say no (a GPyTorch kernel, a draw on a torch device)."""
+    assert "torch" in _modules_after("import roughgp.gp.kernels")
+    modules = _modules_after("from roughgp.cli.main import main\n"
+                             f"assert main(['simulate', 'ground', '--shape', '8', '8', "
+                             f"'--device', 'cpu', '--out', {str(tmp_path / 'd.npy')!r}]) == 0")
     assert "torch" in modules

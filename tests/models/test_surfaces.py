@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 
+from roughgp.common.checks import as_numpy
 from roughgp.models import surfaces
 from roughgp.models.surfaces import FIGURE_2, FIGURE_3, GrooveParameters, ground, honed
 
@@ -49,9 +50,11 @@ def test_noise_is_added_to_the_latent_draw_with_its_variance():
 
 
 def _state(kernel):
-    """(variance, lengthscales, angle) of an eq 18 kernel as plain floats."""
-    return (float(kernel.variance.detach()), tuple(kernel.lengthscales.detach().tolist()),
-            float(kernel.angle.detach()))
+    """(variance, lengthscales, angle) of an eq 18 kernel (GPyTorch's or the numpy one the
+    draws use) as plain floats."""
+    hyper = {k: as_numpy(v) for k, v in kernel.hyperparameters().items()}
+    return (float(hyper["variance"]), tuple(hyper["lengthscales"].tolist()),
+            float(hyper["angle"]))
 
 
 def test_ground_matches_the_kernel_it_names(monkeypatch):
