@@ -31,6 +31,7 @@ from roughgp.beyond.measured.fill import fill_measured_surface
 from roughgp.beyond.measured.self_check import (
     disc_mean_difference,
     hide_discs,
+    method_difference,
     rmse_of,
     verdict_of,
 )
@@ -50,9 +51,8 @@ __all__ = ["SHARES", "AMPLITUDES", "GROUND", "HONED_STEPS", "KINDS", "REAL_FILES
            "TEXTURE_KEYS", "Injected", "inject", "draw_surface", "BenchmarkRow", "benchmark",
            "detection_targets", "RealFileStudy", "real_file_study", "study_record", "RECORDED",
            "recorded_studies", "NOISE_TILE", "TileNoise", "tile_noise", "plateau_honed_profile",
-           "feature_profiles",
-           "stratified_comparison", "STRATIFIED_KEYS", "STRATIFIED_FILE", "figure3_surface",
-           "stratified_texture", "stratified_cases"]
+           "feature_profiles", "stratified_comparison", "STRATIFIED_KEYS", "STRATIFIED_FILE",
+           "figure3_surface", "stratified_texture", "stratified_cases"]
 
 SHARES = (0.0, 0.001, 0.01)  #: shares of the points injected (0: the clean surface)
 AMPLITUDES = (3.0, 20.0)  #: spikes and pits of this many sd (uniform), sign at random
@@ -204,11 +204,6 @@ class RealFileStudy:
     band_se: float
 
 
-def _difference(estimates, truth, held_out):
-    d = (estimates["GP"] - truth) ** 2 - (estimates["linear"] - truth) ** 2
-    return disc_mean_difference(d, held_out)
-
-
 def _discs(held_out) -> int:
     return int(scipy.ndimage.label(held_out)[1])
 
@@ -249,8 +244,8 @@ def real_file_study(name, *, crop=None, share=0.02, seed=0) -> RealFileStudy:
                          detected.history, texture,
                          {"detection": detection_seconds,
                           "fills": time.perf_counter() - start},
-                         _difference(estimates, truth, hidden),
-                         _difference(check.estimates, check.truth, check.held_out),
+                         method_difference(estimates, truth, hidden),
+                         method_difference(check.estimates, check.truth, check.held_out),
                          _discs(hidden), _discs(check.held_out), bool(detected.converged),
                          int(detected.excluded.sum()),
                          disc_mean_difference(inside.astype(float), hidden)[1])
