@@ -58,8 +58,8 @@ def main() -> int:
         "left out of the fit and the interpolation. Verdicts: which method has the lower mean "
         "squared error by more than one standard error over the discs; in brackets the GP's "
         "MSE minus linear's (µm² or nm²) ± its standard error. Rounds: the points the "
-        "detector's fits left out after each round (they only grow; '(cap)': the 8-round "
-        "cap came first).", "",
+        "detector flagged in any round so far, after each (they only grow; '(cap)': the "
+        "8-round cap came before a round that flagged no new point).", "",
         "| file | shape | GP | linear | band | self-check | cross-validation | flagged | rounds |",
         "|---|---|---|---|---|---|---|---|---|",
         *(_row(r) for r in records), ""]

@@ -169,7 +169,7 @@ class RealFileStudy:
             or ``"tie"`` (:func:`~roughgp.beyond.measured.self_check.verdict_of`);
             cv_verdict: the cross-validation's, on its hidden points.
         floor, noise_variances, history: the detector's noise floor, its first and last
-            fits' noise variances, the points flagged after each round.
+            fits' noise variances, the points flagged in any round so far, after each.
         texture: ``{"before": params, "after": params}`` (:data:`TEXTURE_KEYS`).
         seconds: ``{"detection", "fills"}``.
         cv_difference, check_difference: the GP's minus linear interpolation's mean squared
@@ -177,7 +177,7 @@ class RealFileStudy:
             standard error over the discs (the verdicts' evidence); cv_discs, check_discs:
             how many discs (connected groups of hidden points) each holds.
         converged, excluded: whether the detector's rounds reached their fixed point, and how
-            many points its last fit left out.
+            many points they flagged in all (``SpuriousPoints.excluded``).
     """
 
     file: str

@@ -40,8 +40,8 @@ this round's flags) could oscillate: on a 96 x 96 crop of the bullet land the ro
 not within the cap: on the whole maps (``benchmarks/spurious_points_full.py``) ``opd-1.opd``
 reached it after 4 rounds and ``di-1.di`` after 1, while the bullet land and ``sur-2.sur`` were
 still growing at the cap of 8, by 21 and 26 points in the last round (0.01 % of their points;
-left out 5096, 7865, 9080, 9317, 9443, 9507, 9559, 9580 on the land). ``SpuriousPoints.converged``
-says which; the reported points are the last fit's either way. On the whole land the earlier
+on the land 5096, 7865, 9080, 9317, 9443, 9507, 9559, 9580 flagged so far after each round).
+``SpuriousPoints.converged`` says which; the reported points are the last fit's either way. On the whole land the earlier
 rule flagged 5096, 6868, 7120, 6451 points (stopped at its cap of 4, 3.08 %); the growing set
 reports 6756 (3.22 %).
 
@@ -81,8 +81,8 @@ the whole map (484 x 563) it flagged 7.0 % without the floor, 6.1 % with it (165
 rounds 6105, 10780, 15644, 16580; the first fit's noise variance 1.5e-6 um^2, the last's
 3.3e-10; 65 s). (The crop's numbers are from refits warm-started at the previous fit; they now
 start afresh, which halves their time; on the whole land the flags were the same.) With the
-growing set the whole map left out 6105, 11407, 16340, 18051, 18604, 18834, 18928, 18954
-points (the cap) and reports 16910 (6.2 %).
+growing set the whole map had 6105, 11407, 16340, 18051, 18604, 18834, 18928, 18954 points
+flagged so far after each round (the cap) and reports 16910 (6.2 %).
 
 The metrologists' methods, on the same heights (:data:`METHODS`):
 
@@ -138,18 +138,20 @@ class SpuriousPoints:
         flagged: boolean map of the measured points judged spurious.
         scores: the LOO standardised residuals (NaN where unmeasured).
         threshold: the absolute score beyond which a point is flagged.
-        rounds: fit-and-score rounds run; history: points flagged after each.
-        kernel, noise_variance: the last fit's (without the flagged points).
+        rounds: fit-and-score rounds run; history: the points flagged in any round so far,
+            after each (it never shrinks).
+        kernel, noise_variance: the last fit's (without the points flagged before it).
         floor: the least noise variance scored with (:func:`noise_floor`; 0: none); the
             scores use ``max(noise_variance, floor)``.
         seconds: wall time.
         first_flagged, first_seconds, first_noise_variance: the points flagged after the
             first round (the non-robust detector, ``rounds=1``), the time to it, its fit's
             noise variance.
-        excluded: the points the last fit left out (every point flagged in any round; a
-            superset of ``flagged``).
-        converged: True where the last round flagged no point outside ``excluded`` (so
-            ``excluded`` is the rounds' fixed point); False where ``rounds`` ran out first.
+        excluded: every point flagged in any round (a superset of ``flagged``): where the
+            rounds converged, the points the last fit left out; at the cap, those and the
+            last round's new points.
+        converged: True where the last round flagged no new point (``excluded`` is the
+            rounds' fixed point); False where ``rounds`` ran out first.
     """
 
     flagged: np.ndarray
