@@ -41,9 +41,9 @@ not within the cap: on the whole maps (``benchmarks/spurious_points_full.py``) `
 reached it after 4 rounds and ``di-1.di`` after 1, while the bullet land and ``sur-2.sur`` were
 still growing at the cap of 8, by 21 and 26 points in the last round (0.01 % of their points;
 on the land 5096, 7865, 9080, 9317, 9443, 9507, 9559, 9580 flagged so far after each round).
-``SpuriousPoints.converged`` says which; the reported points are the last fit's either way. On the whole land the earlier
-rule flagged 5096, 6868, 7120, 6451 points (stopped at its cap of 4, 3.08 %); the growing set
-reports 6756 (3.22 %).
+``SpuriousPoints.converged`` says which; the reported points are the last fit's either way.
+On the whole land the earlier rule flagged 5096, 6868, 7120, 6451 points (stopped at its cap
+of 4, 3.08 %); the growing set reports 6756 (3.22 %).
 
 Measured (:func:`roughgp.experiments.spurious_points.benchmark`, 96 x 96 points, seed 0,
 the earlier rule of the rounds): with 1 % of
