@@ -250,7 +250,9 @@ def remove_spurious(args, heights, form="plane"):
     except ValueError as exc:
         raise UsageError(f"--spurious: {args.file}: {exc}") from None
     removed = "removed (treated as unmeasured)" if found.count else "nothing removed"
-    err(f"--spurious: {found.summary()}; {removed} ({found.seconds:.1f} s)")
+    rounds = (f"{found.rounds} rounds" if found.converged else
+              f"stopped at the cap of {found.rounds} rounds, the flagged set still growing")
+    err(f"--spurious: {found.summary()}; {removed} ({rounds}, {found.seconds:.1f} s)")
     if flagged_path is not None:
         dy, dx = heights.spacing
         write_heights(flagged_path, found.flagged.astype(np.float64),

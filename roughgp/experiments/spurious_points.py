@@ -18,15 +18,25 @@ r"""Spurious points: the chapter's computations (beyond the paper).
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 import time
+from pathlib import Path
 
 import numpy as np
+import scipy.ndimage
 
 from roughgp.beyond.interpolants import interpolate_holes
 from roughgp.beyond.measured.fill import fill_measured_surface
-from roughgp.beyond.measured.self_check import hide_discs, rmse_of, verdict_of
-from roughgp.beyond.measured.spurious import METHODS, detect_spurious, flag_by
+from roughgp.beyond.measured.self_check import (
+    disc_mean_difference,
+    hide_discs,
+    method_difference,
+    rmse_of,
+    verdict_of,
+)
+from roughgp.beyond.measured.spurious import METHODS, detect_spurious, flag_by, noise_floor
+from roughgp.experiments import honed
 from roughgp.experiments.measured_surfaces import CV_FILES, DATA, centre_crop
 from roughgp.metrology.filters import gaussian_filter
 from roughgp.metrology.form import remove_form
@@ -34,13 +44,15 @@ from roughgp.metrology.measurement import read_measurement
 from roughgp.metrology.robust_filters import robust_gaussian_filter, robust_l_filter
 from roughgp.metrology.stratified import stratified_l_filter
 from roughgp.metrology.texture_heights import material_ratio_parameters
-from roughgp.metrology.texture_report import filtered_parameters
+from roughgp.metrology.texture_report import L_FILTERS, filtered_parameters
 from roughgp.models import surfaces
 
 __all__ = ["SHARES", "AMPLITUDES", "GROUND", "HONED_STEPS", "KINDS", "REAL_FILES",
            "TEXTURE_KEYS", "Injected", "inject", "draw_surface", "BenchmarkRow", "benchmark",
-           "detection_targets", "RealFileStudy", "real_file_study", "plateau_honed_profile",
-           "feature_profiles", "stratified_comparison"]
+           "detection_targets", "RealFileStudy", "real_file_study", "study_record", "RECORDED",
+           "recorded_studies", "NOISE_TILE", "TileNoise", "tile_noise", "plateau_honed_profile",
+           "feature_profiles", "stratified_comparison", "STRATIFIED_KEYS", "STRATIFIED_FILE",
+           "figure3_surface", "stratified_texture", "stratified_cases"]
 
 SHARES = (0.0, 0.001, 0.01)  #: shares of the points injected (0: the clean surface)
 AMPLITUDES = (3.0, 20.0)  #: spikes and pits of this many sd (uniform), sign at random
@@ -151,14 +163,21 @@ class RealFileStudy:
         flagged: the points the GP flagged; summary: how many, where.
         hidden: the measured, unflagged points hidden for the cross-validation.
         rmse: ``{"without flagging": {"GP", "linear"}, "with flagging": {...}}`` at them.
-        band_coverage: the share of them within the GP's calibrated 95 % band (with flagging).
+        band_coverage: the share of them within the GP's calibrated 95 % band (with flagging);
+            band_se: its standard error over the discs (the points of a disc are correlated).
         self_check_verdict: the self-check's verdict (with flagging): ``"GP"``, ``"linear"``
             or ``"tie"`` (:func:`~roughgp.beyond.measured.self_check.verdict_of`);
             cv_verdict: the cross-validation's, on its hidden points.
         floor, noise_variances, history: the detector's noise floor, its first and last
-            fits' noise variances, the points flagged after each round.
+            fits' noise variances, the points flagged in any round so far, after each.
         texture: ``{"before": params, "after": params}`` (:data:`TEXTURE_KEYS`).
         seconds: ``{"detection", "fills"}``.
+        cv_difference, check_difference: the GP's minus linear interpolation's mean squared
+            error at the cross-validation's hidden points and at the self-check's, with its
+            standard error over the discs (the verdicts' evidence); cv_discs, check_discs:
+            how many discs (connected groups of hidden points) each holds.
+        converged, excluded: whether the detector's rounds reached their fixed point, and how
+            many points they flagged in all (``SpuriousPoints.excluded``).
     """
 
     file: str
@@ -176,6 +195,17 @@ class RealFileStudy:
     history: tuple
     texture: dict
     seconds: dict
+    cv_difference: tuple
+    check_difference: tuple
+    cv_discs: int
+    check_discs: int
+    converged: bool
+    excluded: int
+    band_se: float
+
+
+def _discs(held_out) -> int:
+    return int(scipy.ndimage.label(held_out)[1])
 
 
 def real_file_study(name, *, crop=None, share=0.02, seed=0) -> RealFileStudy:
@@ -206,13 +236,106 @@ def real_file_study(name, *, crop=None, share=0.02, seed=0) -> RealFileStudy:
         p = filtered_parameters(heights, m.spacing, form=form).parameters
         texture[label] = {k: float(p[k]) for k in TEXTURE_KEYS}
     residual = remove_form(z, m.spacing, form)[0]
+    check = gp.self_check
     return RealFileStudy(name, z.shape, residual, flagged, detected.summary(), hidden, rmse,
-                         float(np.mean(inside)), gp.self_check.verdict,
+                         float(np.mean(inside)), check.verdict,
                          verdict_of(estimates, truth, hidden), detected.floor,
                          (detected.first_noise_variance, detected.noise_variance),
                          detected.history, texture,
                          {"detection": detection_seconds,
-                          "fills": time.perf_counter() - start})
+                          "fills": time.perf_counter() - start},
+                         method_difference(estimates, truth, hidden),
+                         method_difference(check.estimates, check.truth, check.held_out),
+                         _discs(hidden), _discs(check.held_out), bool(detected.converged),
+                         int(detected.excluded.sum()),
+                         disc_mean_difference(inside.astype(float), hidden)[1])
+
+
+def study_record(study: RealFileStudy) -> dict:
+    """The numbers of a :class:`RealFileStudy` as plain JSON values (no maps)."""
+    measured = int(np.isfinite(study.residual).sum())
+    return {"file": study.file, "shape": list(study.shape), "measured": measured,
+            "flagged": int(study.flagged.sum()),
+            "flagged_share": float(study.flagged.sum() / measured),
+            "excluded": study.excluded, "history": list(study.history),
+            "converged": study.converged, "rmse": study.rmse,
+            "band_coverage": study.band_coverage, "band_se": study.band_se,
+            "hidden": int(study.hidden.sum()),
+            "cv_discs": study.cv_discs, "check_discs": study.check_discs,
+            "cv_verdict": study.cv_verdict, "self_check_verdict": study.self_check_verdict,
+            "cv_difference": list(study.cv_difference),
+            "check_difference": list(study.check_difference),
+            "floor": study.floor, "noise_variances": list(study.noise_variances),
+            "texture": study.texture, "seconds": study.seconds}
+
+
+#: a full-size run of :func:`real_file_study` on every file of :data:`REAL_FILES`
+#: (``benchmarks/spurious_points_full.py``), one :func:`study_record` per line
+RECORDED = Path(__file__).resolve().parents[2] / "benchmarks" / "results" / \
+    "spurious_points_full.jsonl"
+
+
+def recorded_studies(path=RECORDED) -> dict:
+    """``{file: record}`` of a recorded run (:data:`RECORDED`), or None where there is none."""
+    path = Path(path)
+    if not path.is_file():
+        return None
+    records = [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
+    return {r["file"]: r for r in records}
+
+
+NOISE_TILE = 16  #: the side (points) of the tiles of :func:`tile_noise`
+
+
+@dataclasses.dataclass(frozen=True)
+class TileNoise:
+    """:func:`tile_noise`: per tile, ``noise_sd`` (the root of
+    :func:`~roughgp.beyond.measured.spurious.noise_floor`), ``flagged`` and ``counts`` (its
+    flagged and its measured points)."""
+
+    noise_sd: np.ndarray
+    flagged: np.ndarray
+    counts: np.ndarray
+
+    @property
+    def spread(self) -> float:
+        """The noisiest tile's noise sd over the median tile's."""
+        return float(np.max(self.noise_sd) / np.median(self.noise_sd))
+
+    @property
+    def noisy(self) -> np.ndarray:
+        """The tiles whose noise sd exceeds twice the median tile's."""
+        return self.noise_sd > 2 * np.median(self.noise_sd)
+
+    def flagged_share(self, noisy: bool) -> float:
+        """The share of the measured points flagged in the noisy tiles (``noisy=True``) or in
+        the others; NaN where there are none."""
+        pick = self.noisy if noisy else ~self.noisy
+        n = int(np.sum(self.counts[pick]))
+        return float(np.sum(self.flagged[pick]) / n) if n else math.nan
+
+
+def tile_noise(residual, flagged, tile=NOISE_TILE) -> TileNoise:
+    """Whether one noise variance describes a map: the noise bound of
+    :func:`~roughgp.beyond.measured.spurious.noise_floor` on each ``tile`` x ``tile`` tile of
+    ``residual`` (NaN: unmeasured; tiles with fewer than half their points measured dropped),
+    beside how many of its measured points are ``flagged``. The bound's MAD ignores a band
+    narrower than half a tile, hence small tiles. Where the noise sd varies several-fold
+    from tile to tile, the detector's one noise variance cannot hold everywhere."""
+    z = np.asarray(residual, dtype=np.float64)
+    sd, flags, counts = [], [], []
+    for r0 in range(0, z.shape[0] - tile + 1, tile):
+        for c0 in range(0, z.shape[1] - tile + 1, tile):
+            part = np.s_[r0:r0 + tile, c0:c0 + tile]
+            measured = np.isfinite(z[part])
+            if measured.mean() < 0.5:
+                continue
+            sd.append(math.sqrt(noise_floor(z[part])))
+            flags.append(int(np.count_nonzero(flagged[part] & measured)))
+            counts.append(int(measured.sum()))
+    if not sd:
+        raise ValueError(f"no {tile} x {tile} tile of the map is half measured")
+    return TileNoise(np.array(sd), np.array(flags), np.array(counts))
 
 
 # --------------------------------------------------------------------------- the filters' cases
@@ -263,3 +386,44 @@ def stratified_comparison(cutoff=800.0, seed=1) -> dict:
         out[name] = {k: float(p[k]) for k in ("Rk", "Rpk", "Rvk")}
         out[name]["plateau"] = float(np.median(rough[inner][plateau[inner]]))
     return out
+
+
+# --------------------------------------------------------------------------- Sk, Spk, Svk
+
+STRATIFIED_KEYS = ("Sk", "Spk", "Svk")  #: ISO 13565-2's parameters of a stratified surface
+STRATIFIED_FILE = "sur-2.sur"  #: the real file of :func:`stratified_cases`
+
+
+def figure3_surface(shape=(256, 256), seed=honed.SEED) -> np.ndarray:
+    """Figure 3's plateau-honed surface (eq 19-20, :data:`roughgp.models.surfaces.FIGURE_3`,
+    noise variance 1): the paper's 512 x 512 draw (:func:`roughgp.experiments.honed.figure3`)
+    for ``shape=(512, 512)``, else a draw of ``shape`` with the same steps and seed."""
+    if tuple(shape) == surfaces.FIGURE_3_SHAPE:
+        return honed.figure3(seed).surface
+    return surfaces.honed(tuple(shape), surfaces.FIGURE_3, noise_variance=honed.NOISE_VARIANCE,
+                          seed=seed)
+
+
+def stratified_texture(z, spacing=1.0, *, form="plane") -> dict:
+    """Sk, Spk, Svk of ``z`` after each L-filter of ``roughgp texture`` (the Gaussian,
+    ``--stratified``: ISO 13565-1, ``--robust``: the robust Gaussian regression filter), the
+    standard's default nesting indices: ``{l_kind: {"Sk", "Spk", "Svk", "operators"}}``."""
+    out = {}
+    for kind in L_FILTERS:
+        report = filtered_parameters(z, spacing, form=form, l_kind=kind)
+        out[kind] = {k: float(report.parameters[k]) for k in STRATIFIED_KEYS}
+        out[kind]["operators"] = "; ".join(report.operators)
+    return out
+
+
+def stratified_cases(honed_shape=(256, 256), crop=256) -> dict:
+    """:func:`stratified_texture` of figure 3's plateau-honed surface
+    (:func:`figure3_surface` of ``honed_shape``, spacing 1 um) and of :data:`STRATIFIED_FILE`
+    (its central ``crop`` x ``crop`` points; None: the whole map), as ``roughgp texture``,
+    ``--stratified`` and ``--robust`` report them: ``{label: {l_kind: {...}}}``."""
+    m = read_measurement(DATA / STRATIFIED_FILE)
+    z = m.z if crop is None else m.z[centre_crop(STRATIFIED_FILE, crop)]
+    shape = "x".join(map(str, honed_shape))
+    return {f"figure 3 ({shape})": stratified_texture(figure3_surface(honed_shape)),
+            f"{STRATIFIED_FILE} ({z.shape[0]}x{z.shape[1]})":
+                stratified_texture(z, m.spacing, form=REAL_FILES[STRATIFIED_FILE])}

@@ -143,6 +143,8 @@ def test_verdict_is_a_tie_within_one_standard_error_and_can_say_either():
     truth = np.zeros(n)
     small, large = 0.5 * rng.normal(size=n), 2.0 * rng.normal(size=n)
     assert sc.verdict_of({"GP": small, "linear": large}, truth, held) == "GP"
+    mean, se = sc.method_difference({"GP": small, "linear": large}, truth, held)
+    assert mean == pytest.approx(np.mean(small ** 2 - large ** 2)) and mean < -se < 0
     assert sc.verdict_of({"GP": large, "linear": small}, truth, held) == "linear"
     ties = [sc.verdict_of({"GP": rng.normal(size=n), "linear": rng.normal(size=n)}, truth, held)
             for _ in range(20)]

@@ -166,3 +166,31 @@ def test_describe_flagged_says_how_many_and_where():
 def test_bad_input_names_the_parameter(call, name):
     with pytest.raises(ValueError, match=name):
         call()
+
+
+def test_rounds_converge_where_they_oscillated_before():
+    """A 48 x 48 central crop of the bullet land, where the rounds used to oscillate (7, 6, 8, 7
+    points flagged, stopped by the 4-round cap): the points left out of the fit only grow, so
+    the rounds reach a fixed point, and the points reported are exactly those the last fit
+    scores beyond the threshold (a subset of those left out of it)."""
+    from roughgp.experiments.measured_surfaces import DATA, centre_crop
+    from roughgp.metrology.measurement import read_measurement
+
+    m = read_measurement(DATA / "sample-land.x3p")
+    z = m.z[centre_crop("sample-land.x3p", 48)]
+    found = detect_spurious(z, spacing=m.spacing, form="cylinder", seed=0)
+    assert found.converged and found.rounds < 8
+    assert list(found.history) == sorted(found.history)  # never shrinks
+    assert found.history[-1] == found.history[-2] == int(found.excluded.sum())
+    assert np.array_equal(found.flagged, np.abs(np.nan_to_num(found.scores)) > found.threshold)
+    assert not np.any(found.flagged & ~found.excluded)
+    capped = detect_spurious(z, spacing=m.spacing, form="cylinder", seed=0, rounds=2)
+    assert not capped.converged and capped.rounds == 2  # the cap says it stopped short
+    assert capped.history == found.history[:2]
+
+
+def test_rounds_stop_at_once_on_a_clean_surface():
+    found = detect_spurious(_clean((48, 48), seed=11), seed=0)
+    if found.first_flagged.any():
+        pytest.skip("this draw has a false alarm in the first round")
+    assert found.converged and found.rounds == 1 and found.history == (0,)

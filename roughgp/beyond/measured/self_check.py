@@ -48,7 +48,8 @@ from roughgp.common.checks import as_generator
 __all__ = ["NU_CHOICES", "CHECK_POINTS", "CHECK_SHARE", "MIN_CHECK_POINTS", "LEVEL",
            "GAUSSIAN_FACTOR", "FillSelfCheck", "hide_discs", "held_out_share", "held_out_points",
            "predictive_sd", "rmse_of", "median_abs_of", "conformal_factor", "self_check_fill",
-           "disc_mean_difference", "verdict_of", "mse_difference", "choose_nu"]
+           "disc_mean_difference", "method_difference", "verdict_of", "mse_difference",
+           "choose_nu"]
 
 NU_CHOICES = (0.5, 1.5, 2.5)  #: the smoothness values ``nu="auto"`` chooses from
 CHECK_POINTS = 2000  #: at most this many measured points are held out ...
@@ -220,12 +221,19 @@ def disc_mean_difference(d, held_out) -> tuple[float, float]:
     return mean, float(np.sqrt(n_discs / (n_discs - 1) * np.sum(per_disc ** 2)) / d.size)
 
 
+def method_difference(estimates: dict, truth, held_out) -> tuple[float, float]:
+    """The GP's mean squared error at the held-out points minus linear interpolation's, and
+    its standard error over the discs (:func:`disc_mean_difference`): the evidence of
+    :func:`verdict_of`."""
+    d = (estimates["GP"] - truth) ** 2 - (estimates["linear"] - truth) ** 2
+    return disc_mean_difference(d, held_out)
+
+
 def verdict_of(estimates: dict, truth, held_out) -> str:
     """Which fills the held-out points better: ``"GP"`` or ``"linear"`` where their mean
-    squared errors differ by more than one standard error (:func:`disc_mean_difference`),
+    squared errors differ by more than one standard error (:func:`method_difference`),
     else ``"tie"`` (the points cannot tell them apart)."""
-    d = (estimates["GP"] - truth) ** 2 - (estimates["linear"] - truth) ** 2
-    mean, se = disc_mean_difference(d, held_out)
+    mean, se = method_difference(estimates, truth, held_out)
     if abs(mean) <= se:
         return "tie"
     return "GP" if mean < 0 else "linear"
