@@ -93,8 +93,7 @@ def report(args) -> None:
             f"For a calibrated check one parameter's share scatters by (1 sd) "
             f"{100 * full.binomial_sd():.1f} % (0/1) and {100 * full.rb_sd():.1f} % (RB) over "
             f"{len(records)} cases."]
-    subsets = [(f"The first {min(50, len(records))} cases", mc.Calibration.from_records(
-        sorted(records, key=lambda r: r["index"])[:50]))]
+    subsets = [(f"The first {min(50, len(records))} cases", full.first(min(50, len(records))))]
     if len(records) > 50:
         subsets.append((f"All {len(records)} cases", full))
     for title, cal in subsets:

@@ -39,9 +39,10 @@ def test_calibrate_counts_the_parameters_outside_per_case():
     counted = sum(len(c.outside_fitted) for c in result.cases) / (2 * len(result.names))
     assert np.isclose(result.mean_fraction("fitted"), counted)
     table = result.table()
-    assert list(table["parameter"]) == list(result.names)
-    assert {"true: 0/1 (%)", "fitted: RB (%)", "fitted: PIT p", "fitted: 10 ± 3 %?"} \
+    assert list(table.index) == list(result.names)
+    assert {("true model", "0/1 (%)"), ("fitted model", "RB (%)"), ("fitted model", "PIT p")} \
         <= set(table.columns)
+    assert set(table[("fitted model", "10 ± 3 %?")]) == {"too few cases"}
     rb = result.outside_probabilities("fitted")
     assert rb.shape == (2, len(result.names)) and ((rb >= 0) & (rb <= 1)).all()
 
