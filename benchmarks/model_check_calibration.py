@@ -84,7 +84,8 @@ def report(args) -> None:
             f"`{path.name}` by `python benchmarks/model_check_calibration.py --report`; "
             f"{len(records)} synthetic measurements, {full.n_draws} simulations per check "
             f"(the first {full.n_simulations} make the plain check), seed 0; "
-            f"{seconds:.0f} s of case time on the shared 2-core machine.",
+            f"{seconds:.0f} s summed over the cases' wall times (they may have run in "
+            f"parallel parts) on the shared 2-core machine.",
             "",
             "0/1: the plain check's share outside; RB: the Rao-Blackwellised share with its "
             "95 % interval; PIT p: Kolmogorov-Smirnov p-value of the ranks' uniformity; "

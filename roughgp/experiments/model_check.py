@@ -260,6 +260,25 @@ class Calibration:
             groups[row["within"]].append(row["parameter"])
         return groups
 
+    def matching_simulations(self, which="fitted") -> dict:
+        """``{parameter: n}``: the number of simulations ``n`` (2 .. the fewest finite draws
+        of a case, at most ``n_draws``) whose check
+        would say "outside" in the share nearest to :attr:`expected` over these cases (the
+        Rao-Blackwellised share for ``n``). :attr:`n_simulations` for a calibrated check; fewer
+        where the check is conservative (the measurement too often in the middle), more where
+        it cries wolf. A measure of how far off the check is, in its own unit; a correction
+        only for measurements like these synthetic ones (another fit, another surface, another
+        number)."""
+        ranks = self._ranks(which)
+        above = np.array([r.above for r in ranks])
+        below = np.array([r.below for r in ranks])
+        finite = np.array([r.finite for r in ranks])
+        counts = np.arange(2, int(finite.min()) + 1)
+        shares = np.array([outside_probability(above, below, finite, int(n)).mean(axis=0)
+                           for n in counts])
+        best = np.abs(shares - self.expected).argmin(axis=0)
+        return {name: int(counts[best[i]]) for i, name in enumerate(self.names)}
+
     def middle_share(self, which="fitted") -> dict:
         """``{parameter: share of the cases whose rank lies in the middle half}`` (mid-rank
         between 0.25 and 0.75; 0.5 for a calibrated check, more when the model pins the

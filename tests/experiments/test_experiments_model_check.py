@@ -11,8 +11,9 @@ import pytest
 from roughgp.beyond.measured.check import check_model
 from roughgp.beyond.measured.check_ranks import outside_probability
 from roughgp.beyond.measured.model import FittedModel
-from roughgp.experiments.model_check import (Calibration, calibrate, load_calibration,
-                                             rank_check, synthetic_measurement)
+from roughgp.experiments.model_check import (Calibration, CalibrationCase, CheckRanks,
+                                             calibrate, load_calibration, rank_check,
+                                             synthetic_measurement)
 
 
 def test_synthetic_measurements_cycle_the_chain_and_the_holes():
@@ -94,3 +95,31 @@ def test_calibration_seeds_reproduce_and_records_round_trip(tmp_path):
         Calibration.from_records([records[0], dict(records[1], n_draws=8)])
     with pytest.raises(ValueError, match="twice"):
         Calibration.from_records([records[0], records[0]])
+
+
+def _calibration_of_ranks(below, draws=39):
+    """A Calibration of one parameter whose ranks (simulations below) are ``below``."""
+    cases = []
+    for index, b in enumerate(below):
+        ranks = CheckRanks((0.0,), (draws - b,), (b,), (0,), (draws,), ())
+        cases.append(CalibrationCase(index, None, None, False, None, ranks, ranks, 0.0))
+    return Calibration(tuple(cases), ("Sq",), 19, draws, (8, 8), 0.0)
+
+
+def test_matching_simulations_and_the_verdict_see_a_calibrated_and_a_pinned_parameter():
+    uniform = _calibration_of_ranks(list(range(40)) * 2)   # every rank equally often
+    assert uniform.matching_simulations("true") == {"Sq": 19}
+    assert uniform.rb_fractions("true")["Sq"] == pytest.approx(0.1)
+    assert uniform.middle_share("true")["Sq"] == pytest.approx(0.5)
+    # ranks piled in the middle (a fit that pins the parameter): rarely outside, fewer
+    # simulations needed for 10 %, the PIT test rejects, the verdict says no
+    pinned = _calibration_of_ranks(list(range(12, 28)) * 4)
+    assert pinned.rb_fractions("true")["Sq"] < 0.01
+    assert pinned.matching_simulations("true")["Sq"] < 8
+    assert pinned.middle_share("true")["Sq"] == 1.0
+    assert pinned.pit_pvalues("true")["Sq"] < 1e-4
+    assert pinned.by_verdict("true")["no"] == ["Sq"]
+    # ranks at the ends (simulations too narrow): outside too often, more simulations needed
+    ends = _calibration_of_ranks([0, 1, 38, 39] * 15)
+    assert ends.rb_fractions("true")["Sq"] > 0.4
+    assert ends.matching_simulations("true")["Sq"] > 30
