@@ -12,8 +12,10 @@ uniform. :func:`calibrate` measures how often it happens, per parameter:
 * **fitted model**: the measurement checked against eq 18 fitted to it
   (:func:`~roughgp.beyond.measured.fit.fit_surface_model`, stage ``"form-removed"``), the loop
   ``roughgp fit ground`` -> ``check`` runs. The fit matches the model to this very
-  measurement, so a parameter the fit pins (Sq through the variance, Sal through the
-  lengths) falls outside less often than 10 %: the check is then conservative for it.
+  measurement, which could pin a parameter (Sq through the variance, Sal through the lengths)
+  and make the check conservative for it; measured (below), the fit rather finds the
+  variance and the lengths a little short, and the measurement lies above the simulations of
+  Sq and Sal more often than below them.
 
 A share of 0/1 verdicts over 50 cases scatters by 4.2 %, too much to tell 10 % from 7 or 13 %.
 Each check therefore draws ``n_draws`` simulations (:func:`rank_check`; the first
@@ -220,17 +222,23 @@ class Calibration:
     def rb_sd(self) -> float:
         """The standard deviation of one parameter's Rao-Blackwellised share over these cases
         for a calibrated check (a uniform rank among ``n_draws + 1``)."""
-        return uniform_rank_sd(self.n_draws, self.n_simulations) / np.sqrt(len(self.cases))
+        return float(uniform_rank_sd(self.n_draws, self.n_simulations)
+                     / np.sqrt(len(self.cases)))
+
+    def _rank_counts(self, which, i):
+        """``(below, ties, finite)`` of parameter ``i`` over the cases whose measured value is
+        finite."""
+        kept = [r for r in self._ranks(which) if np.isfinite(r.measured[i])]
+        return tuple(np.array([getattr(r, key)[i] for r in kept], dtype=np.int64)
+                     for key in ("below", "ties", "finite"))
 
     def pit_pvalues(self, which="fitted") -> dict:
         """``{parameter: Kolmogorov-Smirnov p-value of the ranks' uniformity}`` (cases with a
         measured value that is not finite left out)."""
-        ranks = self._ranks(which)
         out = {}
         for i, name in enumerate(self.names):
-            kept = [r for r in ranks if np.isfinite(r.measured[i])]
-            out[name] = pit_pvalue([r.below[i] for r in kept], [r.ties[i] for r in kept],
-                                   [r.finite[i] for r in kept]) if len(kept) > 1 else np.nan
+            counts = self._rank_counts(which, i)
+            out[name] = pit_pvalue(*counts) if counts[0].size > 1 else np.nan
         return out
 
     def summary(self, which="fitted", tolerance=0.03) -> list:
@@ -251,6 +259,12 @@ class Calibration:
                          "within": verdict_within(rb_low, rb_high, self.expected, tolerance)
                          if len(self.cases) >= MIN_CASES_FOR_VERDICT else "too few cases"})
         return rows
+
+    def point_within(self, which="fitted", tolerance=0.03) -> list:
+        """The parameters whose Rao-Blackwellised share (the point estimate, without its
+        interval) lies within :attr:`expected` +- ``tolerance``."""
+        return [name for name, share in self.rb_fractions(which).items()
+                if abs(share - self.expected) <= tolerance]
 
     def by_verdict(self, which="fitted", tolerance=0.03) -> dict:
         """``{"yes": [...], "no": [...], "undecided": [...]}``: the parameters by whether their
@@ -279,17 +293,34 @@ class Calibration:
         best = np.abs(shares - self.expected).argmin(axis=0)
         return {name: int(counts[best[i]]) for i, name in enumerate(self.names)}
 
+    def mean_rank(self, which="fitted") -> dict:
+        """``{parameter: mean mid-rank (PIT) over the cases}``: 0.5 for a calibrated check,
+        above when the measurement tends to lie above the simulations (the model too small in
+        that parameter), below when under them."""
+        return {name: float(np.mean(pit_values(*self._rank_counts(which, i))))
+                for i, name in enumerate(self.names)}
+
+    def fit_ratios(self) -> dict:
+        """``{quantity: (median, standard deviation)}`` over the cases of fitted / true for the
+        variance, lambda_a, lambda_b, and the combination variance / sqrt(lambda_a lambda_b)
+        (for the exponential ACVF of eq 18 the variance and the lengths are estimated
+        together: a small map determines this combination better than either)."""
+        def ratio(case, key):
+            return case.fitted.hyperparameters[key] / case.truth.hyperparameters[key]
+        values = {key: np.array([ratio(c, key) for c in self.cases])
+                  for key in ("variance_um2", "lambda_a_um", "lambda_b_um")}
+        values["variance / sqrt(lambda_a lambda_b)"] = values["variance_um2"] / np.sqrt(
+            values["lambda_a_um"] * values["lambda_b_um"])
+        return {key: (float(np.median(v)), float(np.std(v))) for key, v in values.items()}
+
     def middle_share(self, which="fitted") -> dict:
         """``{parameter: share of the cases whose rank lies in the middle half}`` (mid-rank
         between 0.25 and 0.75; 0.5 for a calibrated check, more when the model pins the
         parameter to the measurement, less when its simulations are too narrow)."""
-        ranks = self._ranks(which)
         out = {}
         for i, name in enumerate(self.names):
-            kept = [r for r in ranks if np.isfinite(r.measured[i])]
-            u = pit_values([r.below[i] for r in kept], [r.ties[i] for r in kept],
-                           [r.finite[i] for r in kept])
-            out[name] = float(np.mean((u > 0.25) & (u < 0.75))) if u.size else np.nan
+            u = pit_values(*self._rank_counts(which, i))
+            out[name] = float(np.mean((u > 0.25) & (u < 0.75)))
         return out
 
     def table(self):
