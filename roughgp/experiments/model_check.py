@@ -32,7 +32,12 @@ simulations compared unfiltered, version 1's route).
 
 The synthetic measurements (:data:`CASES`) are eq 18 surfaces of several lengths, lays and
 noise levels, half of them with an L-filter in their chain, every other one with holes (a
-rectangle and a disc, about 9 % of the points).
+rectangle and a disc, about 9 % of the points). Known flaw, kept so that recorded runs stay
+reproducible: measurement ``index`` is drawn from ``default_rng([seed, index])`` and its
+checks from ``seed + index``; numpy pads a seed sequence with zeros, so for index 0 the two
+are one stream and case 0's measurement is its true-model check's first simulation (a tie on
+every parameter: its plain check never says outside). One case in the recorded run; the
+fitted model's check is not affected.
 
 Measured (``calibrate(50)``, 64 x 64, seed 0; 669 s on the 2-core machine shared with other
 jobs): outside in 9.4 % of the cases on average over the 13 parameters against the true model
