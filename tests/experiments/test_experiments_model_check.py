@@ -123,3 +123,13 @@ def test_matching_simulations_and_the_verdict_see_a_calibrated_and_a_pinned_para
     ends = _calibration_of_ranks([0, 1, 38, 39] * 15)
     assert ends.rb_fractions("true")["Sq"] > 0.4
     assert ends.matching_simulations("true")["Sq"] > 30
+
+
+def test_shares_by_model_group_the_cases_by_their_known_model():
+    cal = _calibration_of_ranks([0, 20, 39, 20, 20, 0, 20, 39, 20, 20])
+    by_model = cal.shares_by_model("true")
+    assert sorted(by_model) == [0, 1, 2, 3, 4]
+    rb = cal.outside_probabilities("true")[:, 0]
+    for k in range(5):
+        assert by_model[k]["Sq"] == pytest.approx(rb[[k, k + 5]].mean())
+    assert by_model[0]["Sq"] == pytest.approx(1.0) and by_model[1]["Sq"] < 0.01
