@@ -280,8 +280,9 @@ class Calibration:
                 if abs(share - self.expected) <= tolerance]
 
     def by_verdict(self, which="fitted", tolerance=0.03) -> dict:
-        """``{"yes": [...], "no": [...], "undecided": [...]}``: the parameters by whether their
-        Rao-Blackwellised share is within :attr:`expected` +- ``tolerance`` (:meth:`summary`)."""
+        """``{"yes": [...], "no": [...], "undecided": [...], "too few cases": [...]}``: the
+        parameters by whether their Rao-Blackwellised share is within :attr:`expected` +-
+        ``tolerance`` (:meth:`summary`)."""
         groups = {"yes": [], "no": [], "undecided": [], "too few cases": []}
         for row in self.summary(which, tolerance):
             groups[row["within"]].append(row["parameter"])
@@ -289,9 +290,8 @@ class Calibration:
 
     def matching_simulations(self, which="fitted") -> dict:
         """``{parameter: n}``: the number of simulations ``n`` (2 .. the fewest finite draws
-        of a case, at most ``n_draws``) whose check
-        would say "outside" in the share nearest to :attr:`expected` over these cases (the
-        Rao-Blackwellised share for ``n``). :attr:`n_simulations` for a calibrated check; fewer
+        of a case, at most ``n_draws``) whose check would say "outside" in the share nearest
+        to :attr:`expected` over these cases (the Rao-Blackwellised share for ``n``). :attr:`n_simulations` for a calibrated check; fewer
         where the check is conservative (the measurement too often in the middle), more where
         it cries wolf. A measure of how far off the check is, in its own unit; a correction
         only for measurements like these synthetic ones (another fit, another surface, another
