@@ -25,6 +25,7 @@ import sys
 import time
 from pathlib import Path
 
+from roughgp.experiments import check_calibration as cc
 from roughgp.experiments import model_check as mc
 
 RESULTS = Path(__file__).resolve().parent / "results"
@@ -77,7 +78,7 @@ def report(args) -> None:
     path = _default_path(args.size, "jsonl")
     records = [json.loads(line) for line in path.read_text().splitlines() if line]
     seconds = sum(r.get("case_seconds", 0.0) for r in records)
-    full = mc.Calibration.from_records(records)
+    full = cc.Calibration.from_records(records)
     text = [f"# The model check's calibration, {args.size} x {args.size}",
             "",
             f"Written {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC from "

@@ -11,9 +11,9 @@ import pytest
 from roughgp.beyond.measured.check import check_model
 from roughgp.beyond.measured.check_ranks import outside_probability
 from roughgp.beyond.measured.model import FittedModel
-from roughgp.experiments.model_check import (Calibration, CalibrationCase, CheckRanks,
-                                             calibrate, load_calibration, rank_check,
-                                             synthetic_measurement)
+from roughgp.experiments.check_calibration import (Calibration, CalibrationCase, CheckRanks,
+                                                   load_calibration)
+from roughgp.experiments.model_check import calibrate, rank_check, synthetic_measurement
 
 
 def test_synthetic_measurements_cycle_the_chain_and_the_holes():
