@@ -31,6 +31,7 @@ MIN_CASES_FOR_VERDICT = 50
 CASES = ((1.0, 8.0, 3.0, 30.0, 0.01), (2.0, 5.0, 5.0, 0.0, 0.05), (0.5, 12.0, 2.5, -60.0, 0.02),
          (1.0, 4.0, 1.5, 90.0, 0.1), (1.5, 6.0, 3.0, 45.0, 0.0))
 
+
 @dataclasses.dataclass(frozen=True)
 class CheckRanks:
     """One synthetic measurement checked against one model with ``n_draws`` simulations: per
