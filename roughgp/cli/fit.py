@@ -78,9 +78,13 @@ simulations are then Johnson-transformed GPs, roughgp.beyond.non_gaussian).
 --model chooses the rung of the ladder of models (roughgp.beyond.measured.ladder):
   eq18    the paper's eq 18 (default; --nu 1.5 or 2.5 makes it the Matern variant);
   matern  eq 18's anisotropy with a Matern profile, nu = --nu if 1.5 or 2.5, else 1.5;
+  sm      a 2-D spectral mixture (eq 21/22's family on a surface,
+          roughgp.beyond.measured.sm_model): a broad component plus peaks for a lay, a period
+          or harmonics, fitted by the Whittle likelihood of the periodogram, Q <= 4 by BIC;
+          for structured or periodic surfaces;
   psd     the measured PSD itself, smoothed (roughgp.beyond.measured.psd_model): no
           parametric form, the bound of what any stationary Gaussian model can do on the file;
-  auto    fits the three without 2 % of the measured points (held out in small discs),
+  auto    fits the four without 2 % of the measured points (held out in small discs),
           predicts those by kriging with each model's covariance, prints one line per model
           (held-out RMSE, seconds) and keeps the simplest within one standard error of the
           best; the chosen one is fitted again on all points.
@@ -131,9 +135,10 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     g.add_argument("--nu", type=float, choices=(0.5, 1.5, 2.5), default=0.5,
                    help="smoothness: 0.5 is eq 18 (default); 1.5 or 2.5 its anisotropy with a "
                         "smoother Matern profile, for smooth surfaces (beyond the paper)")
-    g.add_argument("--model", dest="rung", choices=("eq18", "matern", "psd", "auto"),
-                   default="eq18", help="the model: eq18 (default), matern, psd (the measured "
-                   "PSD) or auto (chosen by a held-out score; see above)")
+    g.add_argument("--model", dest="rung", choices=("eq18", "matern", "sm", "psd", "auto"),
+                   default="eq18", help="the model: eq18 (default), matern, sm (a 2-D spectral "
+                   "mixture of up to 4 components, Q by BIC, for lays and periods), psd (the "
+                   "measured PSD) or auto (chosen by a held-out score; see above)")
     g.add_argument("--marginal", choices=("gaussian", "johnson", "iaaft"), default=None,
                    help="the heights' distribution (default gaussian; --non-gaussian is "
                         "johnson)")
@@ -221,7 +226,7 @@ def _marginal_choice(args):
 
 
 def _fit_rungs(args, heights, operators, data, z):
-    """``fit ground --model matern|psd|auto``: the ladder (roughgp.beyond.measured.ladder)."""
+    """``fit ground --model matern|sm|psd|auto``: the ladder (roughgp.beyond.measured.ladder)."""
     from roughgp.beyond.measured.ladder import choose_model, fit_rung
     marginal = _marginal_choice(args)
     nu = args.nu if args.nu in (1.5, 2.5) else 1.5
