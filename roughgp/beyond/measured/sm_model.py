@@ -39,7 +39,7 @@ transmission :math:`T = 4\sin^2(\pi f_x \Delta x) + 4\sin^2(\pi f_y \Delta y)`. 
 differences keep the long wavelengths, which hold most of a real surface's variance, from
 leaking through the holes' mean fill and the window's sidelobes into every frequency
 (:mod:`~roughgp.beyond.measured.psd_table` measured that leak). Fitted to the plain
-periodogram instead, the mixture's simulations had too short a correlation: Sal outside on 16
+periodogram instead, the mixture's simulations had too short a correlation: Sal outside on 15
 of the 18 maps of ``data/`` (128 x 128, IAAFT heights); prewhitened, on 3 of the 5 of them
 tried first, and the held-out kriging RMSE fell on all 5 (0.345 to 0.243 of linear
 interpolation's on ``al3d-1.al3d``). Above :data:`MAX_ORDINATES` the periodogram is
@@ -52,7 +52,7 @@ lowest BIC is kept (:data:`MAX_COMPONENTS` by default). The Whittle likelihood a
 periodogram ordinates spread as a Gaussian field's; a deterministic lay (a sinusoid) puts its
 power into a few ordinates far above any smooth spectrum, and the fitted weight fell to half
 of it (on a sinusoid of variance 0.5 um^2 plus an eq 18 roughness of 0.25 um^2, 128 x 128:
-the mixture's variance 0.48 um^2 of the measured 0.74 um^2). So the fitted weights are
+the mixture's variance 0.48 um^2 of the measured 0.74 um^2, fitted to the plain periodogram). So the fitted weights are
 finally set to the periodogram power each component is responsible for (one EM step on the
 spectrum, :func:`_apportioned`): the model keeps the fitted shapes and the measured variance,
 as the measured-PSD rung does. Bounds: :math:`|\mu|` within the
@@ -68,13 +68,11 @@ import math
 import time
 
 import numpy as np
-import scipy.ndimage
 import scipy.optimize
 
 from roughgp.beyond.measured import psd_table
-from roughgp.beyond.measured.fit import MARGINALS, marginal_of, measured_chain
+from roughgp.beyond.measured.fit import described_data, form_removed_surface, marginal_of
 from roughgp.beyond.measured.model import FittedModel
-from roughgp.common.grid import normalize
 from roughgp.metrology.filters import Texture
 
 __all__ = ["MAX_COMPONENTS", "MAX_ORDINATES", "SmModelFit", "Mixture2D", "check_embeddable",
@@ -440,27 +438,16 @@ def fit_sm_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, axis
         seed: kept in the model (the fit draws nothing).
         max_components: the largest Q tried, 1 to 8 (default :data:`MAX_COMPONENTS`).
     """
-    if marginal not in MARGINALS:
-        raise ValueError(f"marginal must be one of {list(MARGINALS)}, got {marginal!r}")
-    arr = np.asarray(z, dtype=np.float64)
-    if arr.ndim != 2:
-        raise ValueError(f"z must be a surface z[iy, ix], got shape {arr.shape}")
-    if min(arr.shape) < 16:
-        raise ValueError(f"the sm model needs a surface of at least 16 x 16 points, got "
-                         f"{arr.shape}")
-    _, (dy, dx) = normalize(arr.shape, spacing)
     start = time.perf_counter()
-    texture, cutoffs, heights = measured_chain(arr, (dy, dx), form, s, l, degree, axis,
-                                               "form-removed")
+    arr, (dy, dx), texture, cutoffs, heights = form_removed_surface(
+        z, spacing, form, s, l, degree, axis, marginal, name="sm", min_side=16)
     measured = np.isfinite(heights)
     scale = float(np.nanmean(arr * arr))
     if not np.nanvar(heights) > 1e-24 * scale:  # rounding of the form removal
         raise ValueError("the form-removed heights are constant: no spectrum to fit")
     mixture, table, notes = whittle_fit(heights, (dy, dx), max_components)
     hyper = {**mixture.hyperparameters(), "mean_um": float(np.mean(heights[measured]))}
-    described = {**(data or {}), "shape": list(arr.shape), "spacing_um": [dy, dx],
-                 "missing_fraction": float((~measured).mean()),
-                 "points_used": int(measured.sum())}
+    described = described_data(data, arr.shape, (dy, dx), measured)
     how = {"method": ("maximum Whittle likelihood on the Tukey-windowed periodogram of the "
                       "form-removed heights; Q by BIC (roughgp.beyond.measured.sm_model)"),
            "log_likelihood": next(ll for q, ll, _ in table if q == mixture.size),
