@@ -122,6 +122,7 @@ def test_the_file_round_trips(tmp_path):
     assert again == model
     assert json.loads(path.read_text())["kind"] == "surface"
     assert "2-D spectral mixture: Q = 2" in again.describe()
+    assert "peaks at periods 12.5 um" in again.describe()   # the lay; the roughness no peak
     lags = np.array([[3.0, -2.0], [0.0, 0.0]])
     assert np.allclose(again.kernel()(lags), sm2d_acvf(lags, TRUTH))
     assert again.latent_variance() == pytest.approx(1.5)

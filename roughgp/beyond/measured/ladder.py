@@ -17,14 +17,15 @@ Each comes with the height distribution asked for (``marginal``: Gaussian, Johns
 :func:`choose_model` holds out measured points in small discs
 (:func:`roughgp.beyond.measured.self_check.held_out_points`, as the fill's self-check does),
 fits every rung without them, predicts them by kriging with the rung's covariance (eq 18's or
-the Matérn ACVF plus noise; the spectral mixture's in closed form; the PSD model's ACVF tabulated by the inverse DFT of its PSD) and
-scores the prediction by its mean squared error at the held-out heights. It chooses the lowest
-rung whose error is within one standard error of the best
-(:func:`roughgp.beyond.measured.self_check.mse_difference`, robust to the errors' correlation
-within a disc): a richer model must predict clearly better to be chosen. The chosen rung is
-then fitted again on all the measured points. The score rates the covariance at short lags (a
-hole's neighbourhood); whether the model reproduces the measurement's texture parameters is
-:func:`roughgp.beyond.measured.check.check_model`'s question, asked of the model chosen.
+the Matérn ACVF plus noise; the spectral mixture's in closed form; the PSD model's ACVF
+tabulated by the inverse DFT of its PSD) and scores the prediction by its mean squared error
+at the held-out heights. It chooses the lowest rung whose error is within one standard error
+of the best (:func:`roughgp.beyond.measured.self_check.mse_difference`, robust to the errors'
+correlation within a disc): a richer model must predict clearly better to be chosen. The
+chosen rung is then fitted again on all the measured points. The score rates the covariance at
+short lags (a hole's neighbourhood); whether the model reproduces the measurement's texture
+parameters is :func:`roughgp.beyond.measured.check.check_model`'s question, asked of the model
+chosen.
 """
 
 from __future__ import annotations

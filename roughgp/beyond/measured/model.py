@@ -180,12 +180,14 @@ class FittedModel:
                     f"{hp['frequency_min_per_um']:.4g} to {hp['frequency_max_per_um']:.4g} 1/um), "
                     f"variance {self.latent_variance():.4g} um^2")
         elif self.equation == "sm2d":
-            periods = ", ".join(f"{1 / math.hypot(fx, fy):.4g}" for fx, fy in
-                                zip(hp["frequencies_x_per_um"], hp["frequencies_y_per_um"])
-                                if math.hypot(fx, fy) > 0)
+            # a peak: a component whose frequency lies further from 0 than its bandwidths
+            periods = ", ".join(f"{1 / math.hypot(fx, fy):.4g}" for fx, fy, a, b in
+                                zip(hp["frequencies_x_per_um"], hp["frequencies_y_per_um"],
+                                    hp["bandwidths_a_per_um"], hp["bandwidths_b_per_um"])
+                                if math.hypot(fx, fy) > max(a, b))
             text = (f"2-D spectral mixture: Q = {len(hp['weights_um2'])} components, variance "
                     f"{self.latent_variance():.4g} um^2"
-                    + (f", periods {periods} um" if periods else ""))
+                    + (f", peaks at periods {periods} um" if periods else ", no peak"))
         elif self.kind == "surface":
             name = "eq 18" if self.equation == "eq18" else f"eq 18 with Matern nu = {hp['nu']:g}"
             text = (f"{name}: variance {hp['variance_um2']:.4g} um^2, lambda_a "

@@ -1,11 +1,14 @@
 r"""A 2-D spectral mixture of a measured surface, fitted by the Whittle likelihood (beyond the
 paper; the areal member of eq 22's family).
 
-The paper models the turned surfaces' profiles by the spectral mixture of eq 21/22: a sum of
-Gaussians in frequency, each a plane wave under a Gaussian envelope in lag. On a surface the
-same family describes structured or periodic texture that eq 18's single exponential cannot:
-a feed mark, a lay with a period, a turning groove's harmonics. The model (equation
-``"sm2d"``) is
+The paper models turned profiles by the spectral mixture of eq 21 (a sum of Gaussians in
+frequency, each a plane wave under a Gaussian envelope in lag, :math:`\boldsymbol\Sigma_q`
+diagonal) and turned surfaces by the sum of two such mixtures, one along x and one along y
+(eq 22, the additivity assumption: its PSD lies on the two axes); it names "its multivariate
+variant" as the other way. This module is that variant, for structured or periodic texture at
+any angle that eq 18's single exponential cannot describe: a feed mark, a lay with a period,
+its harmonics (eq 22's components are its limit of a vanishing bandwidth along one axis). The
+model (equation ``"sm2d"``) is
 
 .. math::
     r(\boldsymbol\tau) = \sum_{q=1}^{Q} w_q \cos(2\pi\boldsymbol\tau^\top\boldsymbol\mu_q)
@@ -45,15 +48,16 @@ tried first, and the held-out kriging RMSE fell on all 5 (0.345 to 0.243 of line
 interpolation's on ``al3d-1.al3d``). Above :data:`MAX_ORDINATES` the periodogram is
 averaged over square blocks of frequencies first (a Daniell smoother; each average counts as
 its block's ordinates). Components are added one at a time: a broad component at zero
-frequency (the roughness), then at the frequency where the smoothed periodogram exceeds the
+frequency (the roughness), then at the frequency where the prewhitened periodogram exceeds the
 fitted spectrum most (the lay, a period, a harmonic); after each the whole mixture is refitted
 (L-BFGS-B, analytic gradient) and scored by BIC, :math:`-2\ell + (6Q + 1)\log n`; the Q of the
 lowest BIC is kept (:data:`MAX_COMPONENTS` by default). The Whittle likelihood assumes
 periodogram ordinates spread as a Gaussian field's; a deterministic lay (a sinusoid) puts its
 power into a few ordinates far above any smooth spectrum, and the fitted weight fell to half
 of it (on a sinusoid of variance 0.5 um^2 plus an eq 18 roughness of 0.25 um^2, 128 x 128:
-the mixture's variance 0.48 um^2 of the measured 0.74 um^2, fitted to the plain periodogram). So the fitted weights are
-finally set to the periodogram power each component is responsible for (one EM step on the
+the mixture's variance 0.48 um^2 of the measured 0.74 um^2, fitted to the plain
+periodogram). So the fitted weights are finally set to the periodogram power each component is
+responsible for (one EM step on the
 spectrum, :func:`_apportioned`): the model keeps the fitted shapes and the measured variance,
 as the measured-PSD rung does. Bounds: :math:`|\mu|` within the
 Nyquist frequency of each axis, the bandwidths between one frequency bin of the grid fitted
@@ -76,8 +80,7 @@ from roughgp.beyond.measured.model import FittedModel
 from roughgp.metrology.filters import Texture
 
 __all__ = ["MAX_COMPONENTS", "MAX_ORDINATES", "SmModelFit", "Mixture2D", "check_embeddable",
-           "sm2d_acvf",
-           "sm2d_psd", "whittle_fit", "fit_sm_model"]
+           "sm2d_acvf", "sm2d_psd", "whittle_fit", "fit_sm_model"]
 
 MAX_COMPONENTS = 4  #: the most components the fit tries by default
 MAX_ORDINATES = 1 << 14  #: above this many half-plane ordinates the periodogram is block-averaged
@@ -160,9 +163,10 @@ def sm2d_acvf(lags, mixture: Mixture2D):
 
 
 def _component_terms(fy, fx, w, mu, ab, theta, nyquist):
-    """``(G, u_a, u_b, d)`` of one component's Gaussians at ``(fy, fx)`` (flat arrays), summed
-    over its two signs and the aliases it reaches: ``G`` the density times ``w / 2`` per term
-    (a list), ``u`` the offsets in the component's axes, ``d`` the offsets in (x, y)."""
+    """One component's Gaussians at ``(fy, fx)`` (flat arrays), one term per sign of
+    :math:`\pm\boldsymbol\mu` and alias of the grid it reaches: a list of ``(sign, G, u_a,
+    u_b)``, ``G`` the density times ``w / 2`` (um^4), ``u`` the offsets from the term's centre
+    in the component's axes (1/um)."""
     c, s = math.cos(theta), math.sin(theta)
     reach = _TAIL * float(ab.max())
     terms = []
@@ -267,17 +271,17 @@ def _loss(x, spec: _Spectrum, q, scale):
     """The negative Whittle log likelihood (divided by ``scale``) and its gradient in ``x``."""
     m = _unpack(x, q)
     area = spec.spacing[0] * spec.spacing[1]
-    parts = [[_component_terms(spec.fy, spec.fx, m.weights[j], m.means[j], m.bandwidths[j],
-                               m.angles[j], spec.nyquist)] for j in range(q)]
+    parts = [_component_terms(spec.fy, spec.fx, m.weights[j], m.means[j], m.bandwidths[j],
+                              m.angles[j], spec.nyquist) for j in range(q)]
     s = np.full(spec.power.shape, m.noise * area)
-    for (terms,) in parts:
+    for terms in parts:
         for _, g, _, _ in terms:
             s += g
     ratio = spec.power / (s * spec.gain)
     value = float(np.sum(spec.counts * (np.log(s * spec.gain) + ratio))) / scale
     g_s = spec.counts * (1.0 - ratio) / s / scale  # dL/dS
     grad = np.zeros_like(x)
-    for j, (terms,) in enumerate(parts):
+    for j, terms in enumerate(parts):
         a, b = m.bandwidths[j]
         c, sn = math.cos(m.angles[j]), math.sin(m.angles[j])
         row = grad[_PER_COMPONENT * j:_PER_COMPONENT * (j + 1)]
@@ -370,7 +374,7 @@ def whittle_fit(heights, spacing, max_components=MAX_COMPONENTS, max_ordinates=M
 
 def _apportioned(spec: _Spectrum, m: Mixture2D) -> Mixture2D:
     r"""``m`` with each weight (and the noise) set to the periodogram's power that its part of
-    the spectrum is responsible for, :math:`w_q \sum_k G_{qk} I_k / S_k / \sum_k G_{qk}`
+    the spectrum is responsible for, :math:`w_q \sum_k G_{qk} I_k / E_k / \sum_k G_{qk}`
     (one EM step on the spectrum): the variance of the measured heights is conserved (module
     docstring)."""
     area = spec.spacing[0] * spec.spacing[1]
@@ -415,7 +419,8 @@ def _bound_notes(x, bounds, q):
 @dataclasses.dataclass(frozen=True)
 class SmModelFit:
     """What :func:`fit_sm_model` returns: the model, the measurement's chain (``texture``),
-    the BIC table ``(Q, Whittle log likelihood, BIC)`` and the values on a bound."""
+    the BIC table ``(Q, Whittle log likelihood, BIC)`` (of the fits, before the weights are
+    apportioned) and the values on a bound."""
 
     model: FittedModel
     texture: Texture
@@ -448,8 +453,9 @@ def fit_sm_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, axis
     mixture, table, notes = whittle_fit(heights, (dy, dx), max_components)
     hyper = {**mixture.hyperparameters(), "mean_um": float(np.mean(heights[measured]))}
     described = described_data(data, arr.shape, (dy, dx), measured)
-    how = {"method": ("maximum Whittle likelihood on the Tukey-windowed periodogram of the "
-                      "form-removed heights; Q by BIC (roughgp.beyond.measured.sm_model)"),
+    how = {"method": ("maximum Whittle likelihood on the prewhitened Tukey-windowed periodogram "
+                      "of the form-removed heights; Q by BIC, weights apportioned to the "
+                      "periodogram's power (roughgp.beyond.measured.sm_model)"),
            "log_likelihood": next(ll for q, ll, _ in table if q == mixture.size),
            "bic": [[q, round(b, 2)] for q, _, b in table], "seed": seed,
            "seconds": round(time.perf_counter() - start, 2)}
