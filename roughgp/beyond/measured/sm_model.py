@@ -163,7 +163,7 @@ def sm2d_acvf(lags, mixture: Mixture2D):
 
 
 def _component_terms(fy, fx, w, mu, ab, theta, nyquist):
-    """One component's Gaussians at ``(fy, fx)`` (flat arrays), one term per sign of
+    r"""One component's Gaussians at ``(fy, fx)`` (flat arrays), one term per sign of
     :math:`\pm\boldsymbol\mu` and alias of the grid it reaches: a list of ``(sign, G, u_a,
     u_b)``, ``G`` the density times ``w / 2`` (um^4), ``u`` the offsets from the term's centre
     in the component's axes (1/um)."""
