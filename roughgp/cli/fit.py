@@ -253,10 +253,30 @@ def _fit_rungs(args, heights, operators, data, z):
     print(f"fitted to {args.file}: {model.describe()}")
     print_wrapped(f"operators: {'; '.join(model.operators)} (the model describes the heights "
                   f"after the F-operator; the filters are applied to its simulations)")
+    if model.equation == "sm2d":
+        _print_mixture(model)
     for note in notes:
         print_wrapped(f"note: {note}")
     _print_marginal(model)
     return model
+
+
+def _print_mixture(model):
+    """The 2-D spectral mixture's components, one line each, and the BIC of each Q tried."""
+    hp = model.hyperparameters
+    print(f"  {'k':>2}  {'weight (um^2)':>14}  {'period (um)':>12}  {'wave dir (deg)':>14}  "
+          f"{'bandwidths a, b (1/um)':>23}  {'axes (deg)':>10}")
+    for k, (w, fx, fy, a, b, angle) in enumerate(zip(
+            hp["weights_um2"], hp["frequencies_x_per_um"], hp["frequencies_y_per_um"],
+            hp["bandwidths_a_per_um"], hp["bandwidths_b_per_um"], hp["axes_deg"]), start=1):
+        f = math.hypot(fx, fy)
+        period = f"{1 / f:.5g}" if f > max(a, b) else "(no peak)"
+        direction = f"{math.degrees(math.atan2(fy, fx)) % 180:.1f}" if f > max(a, b) else ""
+        print(f"  {k:>2}  {w:>14.5g}  {period:>12}  {direction:>14}  "
+              f"{f'{a:.4g}, {b:.4g}':>23}  {angle % 180:>10.1f}")
+    print(f"  noise variance: {model.noise_variance:.4g} um^2")
+    print("  BIC of Q = " + ", ".join(f"{q}: {b:.6g}" for q, b in model.fit.get("bic", []))
+          + " (the lowest kept)")
 
 
 def _fit_ground(args, heights, operators, data):

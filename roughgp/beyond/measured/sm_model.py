@@ -408,9 +408,9 @@ def _bound_notes(x, bounds, q):
             what = "the noise variance"
         else:
             what = f"component {i // _PER_COMPONENT + 1}'s {_NAMES[i % _PER_COMPONENT]}"
-        why = {3: " (one frequency bin: the peak is no wider than the field resolves)",
-               4: " (one frequency bin: the peak is no wider than the field resolves)",
-               1: " (the Nyquist frequency)", 2: " (the Nyquist frequency)"}
+        finest = " (one frequency bin, the finest the field resolves)"
+        why = {3: finest, 4: finest, 1: " (the Nyquist frequency)",
+               2: " (the Nyquist frequency)"}
         extra = why.get(i % _PER_COMPONENT, "") if i < len(x) - 1 else ""
         notes.append(f"{what} ends on its {side} bound{extra}")
     return notes
