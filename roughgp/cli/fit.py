@@ -78,9 +78,13 @@ simulations are then Johnson-transformed GPs, roughgp.beyond.non_gaussian).
 --model chooses the rung of the ladder of models (roughgp.beyond.measured.ladder):
   eq18    the paper's eq 18 (default; --nu 1.5 or 2.5 makes it the Matern variant);
   matern  eq 18's anisotropy with a Matern profile, nu = --nu if 1.5 or 2.5, else 1.5;
+  sm      a 2-D spectral mixture (eq 21/22's family on a surface,
+          roughgp.beyond.measured.sm_model): a broad component plus peaks for a lay, a period
+          or harmonics, fitted by the Whittle likelihood of the periodogram, Q <= 4 by BIC;
+          for structured or periodic surfaces;
   psd     the measured PSD itself, smoothed (roughgp.beyond.measured.psd_model): no
           parametric form, the bound of what any stationary Gaussian model can do on the file;
-  auto    fits the three without 2 % of the measured points (held out in small discs),
+  auto    fits the four without 2 % of the measured points (held out in small discs),
           predicts those by kriging with each model's covariance, prints one line per model
           (held-out RMSE, seconds) and keeps the simplest within one standard error of the
           best; the chosen one is fitted again on all points.
@@ -131,9 +135,10 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     g.add_argument("--nu", type=float, choices=(0.5, 1.5, 2.5), default=0.5,
                    help="smoothness: 0.5 is eq 18 (default); 1.5 or 2.5 its anisotropy with a "
                         "smoother Matern profile, for smooth surfaces (beyond the paper)")
-    g.add_argument("--model", dest="rung", choices=("eq18", "matern", "psd", "auto"),
-                   default="eq18", help="the model: eq18 (default), matern, psd (the measured "
-                   "PSD) or auto (chosen by a held-out score; see above)")
+    g.add_argument("--model", dest="rung", choices=("eq18", "matern", "sm", "psd", "auto"),
+                   default="eq18", help="the model: eq18 (default), matern, sm (a 2-D spectral "
+                   "mixture of up to 4 components, Q by BIC, for lays and periods), psd (the "
+                   "measured PSD) or auto (chosen by a held-out score; see above)")
     g.add_argument("--marginal", choices=("gaussian", "johnson", "iaaft"), default=None,
                    help="the heights' distribution (default gaussian; --non-gaussian is "
                         "johnson)")
@@ -221,7 +226,7 @@ def _marginal_choice(args):
 
 
 def _fit_rungs(args, heights, operators, data, z):
-    """``fit ground --model matern|psd|auto``: the ladder (roughgp.beyond.measured.ladder)."""
+    """``fit ground --model matern|sm|psd|auto``: the ladder (roughgp.beyond.measured.ladder)."""
     from roughgp.beyond.measured.ladder import choose_model, fit_rung
     marginal = _marginal_choice(args)
     nu = args.nu if args.nu in (1.5, 2.5) else 1.5
@@ -248,10 +253,30 @@ def _fit_rungs(args, heights, operators, data, z):
     print(f"fitted to {args.file}: {model.describe()}")
     print_wrapped(f"operators: {'; '.join(model.operators)} (the model describes the heights "
                   f"after the F-operator; the filters are applied to its simulations)")
+    if model.equation == "sm2d":
+        _print_mixture(model)
     for note in notes:
         print_wrapped(f"note: {note}")
     _print_marginal(model)
     return model
+
+
+def _print_mixture(model):
+    """The 2-D spectral mixture's components, one line each, and the BIC of each Q tried."""
+    hp = model.hyperparameters
+    print(f"  {'k':>2}  {'weight (um^2)':>14}  {'period (um)':>12}  {'wave dir (deg)':>14}  "
+          f"{'bandwidths a, b (1/um)':>23}  {'axes (deg)':>10}")
+    for k, (w, fx, fy, a, b, angle) in enumerate(zip(
+            hp["weights_um2"], hp["frequencies_x_per_um"], hp["frequencies_y_per_um"],
+            hp["bandwidths_a_per_um"], hp["bandwidths_b_per_um"], hp["axes_deg"]), start=1):
+        f = math.hypot(fx, fy)
+        period = f"{1 / f:.5g}" if f > max(a, b) else "(no peak)"
+        direction = f"{math.degrees(math.atan2(fy, fx)) % 180:.1f}" if f > max(a, b) else ""
+        print(f"  {k:>2}  {w:>14.5g}  {period:>12}  {direction:>14}  "
+              f"{f'{a:.4g}, {b:.4g}':>23}  {angle % 180:>10.1f}")
+    print(f"  noise variance: {model.noise_variance:.4g} um^2")
+    print("  BIC of Q = " + ", ".join(f"{q}: {b:.6g}" for q, b in model.fit.get("bic", []))
+          + " (the lowest kept)")
 
 
 def _fit_ground(args, heights, operators, data):

@@ -4,7 +4,9 @@ r"""Which model reproduces which measurement: a ladder of models on the real map
 Each *rung* of :data:`RUNGS` is a way to fit a model to a measured surface: the paper's eq 18
 with Gaussian heights (eq 8), eq 18 with the measured skewness and kurtosis (the Johnson
 marginal, :mod:`roughgp.beyond.non_gaussian`), eq 18's rotated anisotropy with a smoother
-Matérn profile (:math:`\nu` = 1.5, 2.5), and the nonparametric stationary model of the map's
+Matérn profile (:math:`\nu` = 1.5, 2.5), a 2-D spectral mixture (eq 21/22's family on a
+surface, :mod:`roughgp.beyond.measured.sm_model`: peaks for a lay or a period) with Gaussian
+or IAAFT heights, and the nonparametric stationary model of the map's
 own smoothed PSD (:mod:`roughgp.beyond.measured.psd_model`: what any stationary Gaussian model
 could do on the map) with Gaussian heights or the measured ones matched exactly (IAAFT,
 :mod:`roughgp.beyond.measured.iaaft`). :func:`run_rung` fits one rung
@@ -47,11 +49,12 @@ from roughgp.beyond.measured.check import SURFACE_PARAMETERS, check_model
 from roughgp.beyond.measured.fit import fit_surface_model, form_removed
 from roughgp.beyond.measured.psd_model import fit_psd_model
 from roughgp.beyond.measured.self_check import held_out_points, self_check_fill
+from roughgp.beyond.measured.sm_model import fit_sm_model
 from roughgp.common.settings import pick
 from roughgp.experiments.real_maps import REAL_MAPS, real_file
 from roughgp.metrology.measurement import read_measurement
 
-__all__ = ["Rung", "RUNGS", "PSD_MARGINALS", "QUICK_RUNGS", "QUICK_FILES", "FORMS",
+__all__ = ["Rung", "RUNGS", "PSD_MARGINALS", "SM_MARGINALS", "QUICK_RUNGS", "QUICK_FILES", "FORMS",
            "MAX_OUTSIDE", "TARGET_SHARE", "crop_size", "crop_window", "RECORDED",
            "recorded_ladder", "RungResult", "run_rung", "Ladder", "model_ladder", "reasons",
            "verdict_lines", "markdown_table", "plot_ladder", "TAILS", "AMPLITUDE", "SPATIAL"]
@@ -89,6 +92,12 @@ def _psd(marginal):
     return fit
 
 
+def _sm(marginal):
+    def fit(z, spacing, *, form, seed, data):
+        return fit_sm_model(z, spacing, form=form, seed=seed, data=data, marginal=marginal)
+    return fit
+
+
 #: the height distributions' names in the rungs' labels
 _HEIGHTS = {"gaussian": "Gaussian", "johnson": "Johnson heights", "iaaft": "IAAFT heights"}
 
@@ -96,6 +105,8 @@ _HEIGHTS = {"gaussian": "Gaussian", "johnson": "Johnson heights", "iaaft": "IAAF
 #: one matched exactly (IAAFT); its Johnson option is left out (it matches the skewness and
 #: kurtosis alone, where IAAFT matches the whole distribution), for the time of a check per map
 PSD_MARGINALS = ("gaussian", "iaaft")
+#: the 2-D spectral mixture's height distributions on the ladder, as the PSD model's
+SM_MARGINALS = PSD_MARGINALS
 
 #: The ladder, simplest first. eq 18 is the paper's row; the measured-PSD model
 #: (:mod:`roughgp.beyond.measured.psd_model`) with :data:`PSD_MARGINALS`.
@@ -104,13 +115,17 @@ RUNGS = {rung.name: rung for rung in (
     Rung("eq18-johnson", "eq 18, Johnson heights", _eq18(non_gaussian=True)),
     Rung("matern-1.5", "Matérn ν = 1.5, Gaussian", _eq18(nu=1.5)),
     Rung("matern-2.5", "Matérn ν = 2.5, Gaussian", _eq18(nu=2.5)),
+    *(Rung(f"sm-{m}", f"2-D spectral mixture, {_HEIGHTS.get(m, m)}", _sm(m))
+      for m in SM_MARGINALS),
     *(Rung(f"psd-{m}", f"measured PSD, {_HEIGHTS.get(m, m)}", _psd(m)) for m in PSD_MARGINALS),
 )}
 
 
 #: the quick run's rungs: all but the Matérn ones (the slowest fits, and not the best on the
-#: quick maps; on smooth maps they are: the recorded run of every map)
-QUICK_RUNGS = tuple(name for name in RUNGS if not name.startswith("matern"))
+#: quick maps; on smooth maps they are: the recorded run of every map) and the spectral
+#: mixture with Gaussian heights (its IAAFT rung is the one that can reproduce a lay's heights)
+QUICK_RUNGS = tuple(name for name in RUNGS
+                    if not name.startswith("matern") and name != "sm-gaussian")
 
 
 def crop_size(full=None) -> int:

@@ -34,6 +34,17 @@ def test_an_eq18_surface_keeps_the_simplest_rung_within_the_error():
     assert choice.model.equation == "eq18" and "chosen_by" in choice.model.fit
 
 
+def test_an_eq18_surface_is_not_given_the_spectral_mixture():
+    """The spectral mixture can mimic eq 18's spectrum with several Gaussians; on an eq 18
+    surface it must not predict the held-out points clearly better, so auto keeps eq 18."""
+    kernel = RotatedExponentialKernel(1.0, (6.0, 3.0), math.radians(20))
+    z = sample_grid(kernel, (96, 96), seed=5)[0]
+    z = z + 0.2 * np.random.default_rng(2).standard_normal(z.shape)
+    choice = choose_model(z, 1.0, n_blocks=6, rungs=("eq18", "sm"))
+    assert choice.chosen == "eq18", choice.reason
+    assert choice.rungs[1].model.equation == "sm2d"
+
+
 def test_refusals():
     z = np.random.default_rng(0).standard_normal((20, 20))
     with pytest.raises(ValueError, match="too few to hold some out"):
@@ -44,4 +55,4 @@ def test_refusals():
         fit_rung("spline", z, 1.0)
     with pytest.raises(ValueError, match="nu of the matern rung"):
         fit_rung("matern", z, 1.0, nu=0.5)
-    assert RUNGS == ("eq18", "matern", "psd")
+    assert RUNGS == ("eq18", "matern", "sm", "psd")

@@ -1,4 +1,4 @@
-"""``roughgp fit ground --model eq18|matern|psd|auto`` and ``--marginal``: the ladder of models
+"""``roughgp fit ground --model eq18|matern|sm|psd|auto`` and ``--marginal``: the ladder of models
 on the command line, and its models read by ``simulate --from``, ``check`` and ``fill
 --model``."""
 
@@ -10,6 +10,7 @@ import math
 import numpy as np
 import pytest
 
+from roughgp.beyond.measured.check import SURFACE_PARAMETERS
 from roughgp.gp.kernels import RotatedExponentialKernel
 from roughgp.metrology import x3p
 from roughgp.metrology.writers import write_heights
@@ -36,6 +37,13 @@ def test_psd_model_with_iaaft_through_simulate_check_and_fill(capsys, tmp_path, 
     record = json.loads(model.read_text())
     assert record["equation"] == "measured-psd" and record["marginal"]["method"] == "iaaft"
     assert "measured PSD" in out and "IAAFT" in out
+    outside = _through_simulate_check_and_fill(capsys, tmp_path, model, surface)
+    assert len(outside) <= 4, outside  # its own measurement: few outside
+
+
+def _through_simulate_check_and_fill(capsys, tmp_path, model, surface):
+    """``simulate --from``, ``check`` and ``fill --model`` of ``model``: each runs; the
+    parameters the check leaves outside."""
     sim = tmp_path / "sim.x3p"
     code, _, err = run(capsys, "simulate", "--from", model, "--shape", 40, 70, "--seed", 2,
                        "--out", sim)
@@ -44,13 +52,31 @@ def test_psd_model_with_iaaft_through_simulate_check_and_fill(capsys, tmp_path, 
     code, out, err = run(capsys, "check", model, surface, "--simulations", 9, "--json",
                          tmp_path / "c.json")
     assert code == 0, err
-    outside = json.loads((tmp_path / "c.json").read_text())["outside"]
-    assert len(outside) <= 4, outside  # its own measurement: few outside
     code, out, err = run(capsys, "fill", surface, "--model", model, "--out",
                          tmp_path / "filled.x3p")
     assert code == 0, err
     filled = x3p.read_x3p(tmp_path / "filled.x3p").z
     assert np.isfinite(filled).all()
+    return json.loads((tmp_path / "c.json").read_text())["outside"]
+
+
+def test_sm_model_with_johnson_through_simulate_check_and_fill(capsys, tmp_path, surface):
+    model = tmp_path / "sm.json"
+    code, out, err = run(capsys, "fit", "ground", surface, "--model", "sm", "--marginal",
+                         "johnson", "--l-filter", "none", "--out", model)
+    assert code == 0, err
+    record = json.loads(model.read_text())
+    assert record["equation"] == "sm2d" and set(record["marginal"]) == {"skewness", "kurtosis"}
+    assert "2-D spectral mixture: Q = " in out
+    outside = _through_simulate_check_and_fill(capsys, tmp_path, model, surface)
+    assert set(outside) <= set(SURFACE_PARAMETERS), outside   # a verdict on the 13 names
+    narrow = dict(record, hyperparameters={**record["hyperparameters"],
+                                           "bandwidths_a_per_um": [1e-3] * len(
+                                               record["hyperparameters"]["weights_um2"])})
+    (tmp_path / "narrow.json").write_text(json.dumps(narrow))
+    code, _, err = run(capsys, "simulate", "--from", tmp_path / "narrow.json", "--shape", 4000,
+                       4000, "--seed", 0, "--out", tmp_path / "n.npy")
+    assert code == 2 and "torus of about" in err and "Traceback" not in err
 
 
 def test_auto_prints_each_candidate_and_why(capsys, tmp_path, surface):
@@ -59,14 +85,16 @@ def test_auto_prints_each_candidate_and_why(capsys, tmp_path, surface):
                          "--out", model)
     assert code == 0, err
     lines = [line.split() for line in out.splitlines()]
-    scored = {w[0]: float(w[1]) for w in lines if w and w[0] in ("eq18", "matern", "psd")}
-    assert set(scored) == {"eq18", "matern", "psd"} and all(v > 0 for v in scored.values())
+    scored = {w[0]: float(w[1]) for w in lines if w and w[0] in ("eq18", "matern", "sm",
+                                                                  "psd")}
+    assert set(scored) == {"eq18", "matern", "sm", "psd"} and all(v > 0 for v in
+                                                                 scored.values())
     assert "chose " in out
     record = json.loads(model.read_text())
-    chosen = {"eq18": "eq18", "eq18-matern": "matern", "measured-psd": "psd"}[
+    chosen = {"eq18": "eq18", "eq18-matern": "matern", "sm2d": "sm", "measured-psd": "psd"}[
         record["equation"]]
     assert f"chose {chosen}" in out and "chosen_by" in record["fit"]
-    assert set(record["fit"]["held_out_rmse_um"]) == {"eq18", "matern", "psd"}
+    assert set(record["fit"]["held_out_rmse_um"]) == {"eq18", "matern", "sm", "psd"}
 
 
 def test_matern_rung_and_bad_combinations(capsys, tmp_path, surface):

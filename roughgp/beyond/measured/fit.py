@@ -48,7 +48,8 @@ from roughgp.metrology.filters import Texture, surface_texture
 
 __all__ = ["MARGINALS", "marginal_of", "SurfaceModelFit", "ProfileModelFit", "fit_surface_model",
            "fit_profile_model",
-           "apply_operators", "rest_of_chain", "form_removed", "measured_chain"]
+           "apply_operators", "rest_of_chain", "form_removed", "measured_chain",
+           "form_removed_surface", "described_data"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -152,6 +153,32 @@ def measured_chain(arr, spacing, form, s, l, degree, axis, stage):
     cutoffs = _cutoffs(form, texture.cutoffs.s, texture.cutoffs.l, degree, axis)
     heights = texture.sl if stage == "filtered" else form_removed(arr, spacing, cutoffs).sl
     return texture, cutoffs, heights
+
+
+def form_removed_surface(z, spacing, form, s, l, degree, axis, marginal, *, name, min_side):
+    """``(arr, (dy, dx), texture, cutoffs, heights)``: the checks shared by the models fitted to
+    a surface's form-removed heights (``marginal`` one of :data:`MARGINALS`, ``z`` a surface of
+    at least ``min_side`` points a side: a ``ValueError`` naming the model ``name``
+    otherwise), then :func:`measured_chain` of stage ``"form-removed"``."""
+    if marginal not in MARGINALS:
+        raise ValueError(f"marginal must be one of {list(MARGINALS)}, got {marginal!r}")
+    arr = np.asarray(z, dtype=np.float64)
+    if arr.ndim != 2:
+        raise ValueError(f"z must be a surface z[iy, ix], got shape {arr.shape}")
+    if min(arr.shape) < min_side:
+        raise ValueError(f"the {name} model needs a surface of at least {min_side} x "
+                         f"{min_side} points, got {arr.shape}")
+    _, (dy, dx) = normalize(arr.shape, spacing)
+    texture, cutoffs, heights = measured_chain(arr, (dy, dx), form, s, l, degree, axis,
+                                               "form-removed")
+    return arr, (dy, dx), texture, cutoffs, heights
+
+
+def described_data(data, shape, spacing, measured) -> dict:
+    """The model's ``data``: the source's description ``data`` plus the shape, spacing,
+    missing share and points used (``measured``: the map of measured points)."""
+    return {**(data or {}), "shape": list(shape), "spacing_um": list(spacing),
+            "missing_fraction": float((~measured).mean()), "points_used": int(measured.sum())}
 
 
 def fit_surface_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, axis="auto",

@@ -7,6 +7,9 @@ The rungs (:data:`RUNGS`), each a model file that ``simulate --from``, ``check``
 * ``"eq18"``: the paper's rotated anisotropic exponential ACVF plus noise (eq 18, eq 8);
 * ``"matern"``: eq 18's anisotropy with a smoother Matérn profile (:math:`\nu` = 1.5 by
   default, or 2.5);
+* ``"sm"``: a 2-D spectral mixture (eq 21/22's family in two dimensions,
+  :mod:`roughgp.beyond.measured.sm_model`): a broad component and peaks for a lay, a period or
+  its harmonics, for structured or periodic surfaces;
 * ``"psd"``: the measured PSD itself (:mod:`roughgp.beyond.measured.psd_model`), the bound of
   what any stationary Gaussian model can do on the file.
 
@@ -14,14 +17,15 @@ Each comes with the height distribution asked for (``marginal``: Gaussian, Johns
 :func:`choose_model` holds out measured points in small discs
 (:func:`roughgp.beyond.measured.self_check.held_out_points`, as the fill's self-check does),
 fits every rung without them, predicts them by kriging with the rung's covariance (eq 18's or
-the Matérn ACVF plus noise; the PSD model's ACVF tabulated by the inverse DFT of its PSD) and
-scores the prediction by its mean squared error at the held-out heights. It chooses the lowest
-rung whose error is within one standard error of the best
-(:func:`roughgp.beyond.measured.self_check.mse_difference`, robust to the errors' correlation
-within a disc): a richer model must predict clearly better to be chosen. The chosen rung is
-then fitted again on all the measured points. The score rates the covariance at short lags (a
-hole's neighbourhood); whether the model reproduces the measurement's texture parameters is
-:func:`roughgp.beyond.measured.check.check_model`'s question, asked of the model chosen.
+the Matérn ACVF plus noise; the spectral mixture's in closed form; the PSD model's ACVF
+tabulated by the inverse DFT of its PSD) and scores the prediction by its mean squared error
+at the held-out heights. It chooses the lowest rung whose error is within one standard error
+of the best (:func:`roughgp.beyond.measured.self_check.mse_difference`, robust to the errors'
+correlation within a disc): a richer model must predict clearly better to be chosen. The
+chosen rung is then fitted again on all the measured points. The score rates the covariance at
+short lags (a hole's neighbourhood); whether the model reproduces the measurement's texture
+parameters is :func:`roughgp.beyond.measured.check.check_model`'s question, asked of the model
+chosen.
 """
 
 from __future__ import annotations
@@ -34,6 +38,7 @@ import numpy as np
 from roughgp.beyond.measured.fit import fit_surface_model, form_removed
 from roughgp.beyond.measured.model import FittedModel
 from roughgp.beyond.measured.psd_model import fit_psd_model
+from roughgp.beyond.measured.sm_model import fit_sm_model
 from roughgp.beyond.measured.self_check import (
     CHECK_SHARE,
     MIN_CHECK_POINTS,
@@ -46,7 +51,7 @@ from roughgp.common.grid import normalize
 
 __all__ = ["RUNGS", "Rung", "LadderChoice", "fit_rung", "choose_model"]
 
-RUNGS = ("eq18", "matern", "psd")  #: the rungs, simplest first
+RUNGS = ("eq18", "matern", "sm", "psd")  #: the rungs, simplest first
 
 
 @dataclasses.dataclass(frozen=True)
@@ -54,7 +59,7 @@ class Rung:
     """One rung's fit without the held-out points and its score.
 
     Attributes:
-        name: ``"eq18"``, ``"matern"`` or ``"psd"``.
+        name: ``"eq18"``, ``"matern"``, ``"sm"`` or ``"psd"``.
         model: the model fitted without the held-out points.
         check: the kriging of the held-out points with it (RMSE, band coverage, ...).
         seconds: the fit and the kriging.
@@ -89,6 +94,9 @@ def fit_rung(name, z, spacing, *, form="plane", s=None, l=None, degree=2, axis="
     chain = dict(form=form, s=s, l=l, degree=degree, axis=axis, seed=seed, data=data)
     if name == "psd":
         return fit_psd_model(z, spacing, marginal=marginal, **chain).model, ()
+    if name == "sm":
+        result = fit_sm_model(z, spacing, marginal=marginal, **chain)
+        return result.model, result.range_notes
     if name not in ("eq18", "matern"):
         raise ValueError(f"the rung must be one of {list(RUNGS)}, got {name!r}")
     if name == "matern" and nu not in (1.5, 2.5):

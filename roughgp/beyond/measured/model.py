@@ -33,7 +33,11 @@ Equations:
 * ``"measured-psd"``: a surface, the measured PSD itself as a 40 x 36 log-polar table (um^4)
   over frequencies ``frequency_min_per_um`` to ``frequency_max_per_um``, the nonparametric
   stationary Gaussian model (:mod:`roughgp.beyond.measured.psd_model`); its noise is in the
-  PSD (``noise_variance_um2`` 0), its ACVF the inverse DFT of the PSD.
+  PSD (``noise_variance_um2`` 0), its ACVF the inverse DFT of the PSD;
+* ``"sm2d"``: a surface, a 2-D spectral mixture (eq 21's family in two dimensions, each
+  component a pair of Gaussians at :math:`\pm\boldsymbol\mu_q` with a full covariance given
+  by its bandwidths and axes' angle) plus Gaussian noise, for structured or periodic surfaces
+  (:mod:`roughgp.beyond.measured.sm_model`); drawn by exact circulant embedding.
 
 Non-Gaussian heights (``marginal = {"skewness": s, "kurtosis": k}``) are drawn as
 :math:`Z = T(X) + e`: the latent surface is the Johnson transform of a pre-distorted GP with the
@@ -83,7 +87,8 @@ class FittedModel:
     model (module docstring).
 
     Attributes:
-        equation: ``"eq18"``, ``"eq18-matern"``, ``"eq21"`` or ``"measured-psd"``.
+        equation: ``"eq18"``, ``"eq18-matern"``, ``"eq21"``, ``"measured-psd"`` or
+            ``"sm2d"``.
         hyperparameters: the names of :data:`EQUATIONS` (units in the names: um, um^2, deg,
             1/um); eq 21's are lists of Q values.
         spacing: the grid spacing of the data, ``(dy, dx)`` (surface) or ``(dx,)`` (profile), um.
@@ -133,6 +138,10 @@ class FittedModel:
         if self.equation == "measured-psd":
             from roughgp.beyond.measured.psd_model import TabulatedACVF
             return TabulatedACVF(self)
+        if self.equation == "sm2d":
+            from roughgp.beyond.measured.sm_model import Mixture2D, sm2d_acvf
+            mixture = Mixture2D.from_hyperparameters(hp)
+            return lambda lags: sm2d_acvf(lags, mixture)
         if self.equation == "eq18-matern":
             from roughgp.gp.acvf import rotated_matern
             scales = np.array([hp["lambda_a_um"], hp["lambda_b_um"]], dtype=np.float64)
@@ -158,7 +167,7 @@ class FittedModel:
         if self.equation == "measured-psd":
             from roughgp.beyond.measured.psd_model import band_variance
             return band_variance(self)
-        if self.kind == "surface":
+        if self.kind == "surface" and self.equation != "sm2d":
             return float(hp["variance_um2"])
         return float(np.sum(hp["weights_um2"]))
 
@@ -170,6 +179,15 @@ class FittedModel:
             text = (f"measured PSD ({len(rows)} x {len(rows[0])} log-polar table, "
                     f"{hp['frequency_min_per_um']:.4g} to {hp['frequency_max_per_um']:.4g} 1/um), "
                     f"variance {self.latent_variance():.4g} um^2")
+        elif self.equation == "sm2d":
+            # a peak: a component whose frequency lies further from 0 than its bandwidths
+            periods = ", ".join(f"{1 / math.hypot(fx, fy):.4g}" for fx, fy, a, b in
+                                zip(hp["frequencies_x_per_um"], hp["frequencies_y_per_um"],
+                                    hp["bandwidths_a_per_um"], hp["bandwidths_b_per_um"])
+                                if math.hypot(fx, fy) > max(a, b))
+            text = (f"2-D spectral mixture: Q = {len(hp['weights_um2'])} components, variance "
+                    f"{self.latent_variance():.4g} um^2"
+                    + (f", peaks at periods {periods} um" if periods else ", no peak"))
         elif self.kind == "surface":
             name = "eq 18" if self.equation == "eq18" else f"eq 18 with Matern nu = {hp['nu']:g}"
             text = (f"{name}: variance {hp['variance_um2']:.4g} um^2, lambda_a "
@@ -212,6 +230,11 @@ class FittedModel:
                              f"{_MAX_SIMULATE_POINTS} (2**24): draw fewer or smaller surfaces")
         shape, spacing = normalize(shape, self.spacing if spacing is None else spacing)
         rng = as_generator(seed)
+        if self.equation == "sm2d":
+            from roughgp.beyond.measured.sm_model import Mixture2D, check_embeddable
+            check_embeddable(Mixture2D.from_hyperparameters(self.hyperparameters), shape,
+                             spacing)
+            method = "circulant" if method == "auto" else method  # exact (sm_model)
         remap = self.marginal is not None and (self.equation == "measured-psd"
                                                or self.marginal_method == "iaaft")
         if self.equation == "measured-psd":

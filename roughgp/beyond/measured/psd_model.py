@@ -28,9 +28,8 @@ import numpy as np
 import scipy.ndimage
 
 from roughgp.beyond.measured import psd_table
-from roughgp.beyond.measured.fit import MARGINALS, marginal_of, measured_chain
+from roughgp.beyond.measured.fit import described_data, form_removed_surface, marginal_of
 from roughgp.beyond.measured.model import FittedModel
-from roughgp.common.grid import normalize
 from roughgp.metrology.filters import Texture
 
 __all__ = ["PsdModelFit", "fit_psd_model", "TabulatedACVF", "draw_psd_model", "band_variance"]
@@ -124,18 +123,9 @@ def fit_psd_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, axi
         seed: kept in the model (the estimate itself draws nothing).
         data: a dict describing the source, kept in the model.
     """
-    if marginal not in MARGINALS:
-        raise ValueError(f"marginal must be one of {list(MARGINALS)}, got {marginal!r}")
-    arr = np.asarray(z, dtype=np.float64)
-    if arr.ndim != 2:
-        raise ValueError(f"z must be a surface z[iy, ix], got shape {arr.shape}")
-    if min(arr.shape) < 8:
-        raise ValueError(f"the measured-psd model needs a surface of at least 8 x 8 points, got "
-                         f"{arr.shape}")
-    _, (dy, dx) = normalize(arr.shape, spacing)
     start = time.perf_counter()
-    texture, cutoffs, heights = measured_chain(arr, (dy, dx), form, s, l, degree, axis,
-                                               "form-removed")
+    arr, (dy, dx), texture, cutoffs, heights = form_removed_surface(
+        z, spacing, form, s, l, degree, axis, marginal, name="measured-psd", min_side=8)
     measured = np.isfinite(heights)
     table, f_min, f_max = psd_table.estimate(heights, (dy, dx))
     variance = float(np.var(heights[measured]))
@@ -143,9 +133,7 @@ def fit_psd_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, axi
     hyper = {"psd_um4": table.tolist(), "frequency_min_per_um": f_min,
              "frequency_max_per_um": f_max, "noise_variance_um2": 0.0,
              "mean_um": float(np.mean(heights[measured]))}
-    described = {**(data or {}), "shape": list(arr.shape), "spacing_um": [dy, dx],
-                 "missing_fraction": float((~measured).mean()),
-                 "points_used": int(measured.sum())}
+    described = described_data(data, arr.shape, (dy, dx), measured)
     how = {"method": (f"Tukey-windowed periodogram of the mean-filled form-removed heights, "
                       f"{psd_table.N_RADII} x {psd_table.N_ANGLES} log-polar bins of >= "
                       f"{psd_table.MIN_ORDINATES} ordinates (roughgp.beyond.measured.psd_table)"),

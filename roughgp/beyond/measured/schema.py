@@ -16,7 +16,8 @@ from __future__ import annotations
 import math
 
 __all__ = ["ModelFileError", "MODEL_FORMAT", "MODEL_VERSIONS", "STAGES", "EQUATIONS", "RANGES",
-           "MAX_DEPTH", "MAX_FILE_BYTES", "MAX_MIXTURES", "FORMS", "AXES", "validate_record",
+           "MAX_DEPTH", "MAX_FILE_BYTES", "MAX_MIXTURES", "MAX_SM2D_COMPONENTS",
+           "SM2D_BANDWIDTHS", "FORMS", "AXES", "validate_record",
            "check_fields"]
 
 MODEL_FORMAT = "roughgp-model"
@@ -34,7 +35,15 @@ EQUATIONS = {
                          "noise_variance_um2")),
     "measured-psd": ("surface", ("psd_um4", "frequency_min_per_um", "frequency_max_per_um",
                                  "noise_variance_um2")),
+    "sm2d": ("surface", ("weights_um2", "frequencies_x_per_um", "frequencies_y_per_um",
+                         "bandwidths_a_per_um", "bandwidths_b_per_um", "axes_deg",
+                         "noise_variance_um2")),
 }
+#: the 2-D spectral mixture's most components (its fit tries 4 by default)
+MAX_SM2D_COMPONENTS = 8
+#: its bandwidths' allowed range, in units of the Nyquist frequency 1 / (2 spacing): at least
+#: 1e-4 (a correlation over some 10^4 points, what a circulant embedding can still hold)
+SM2D_BANDWIDTHS = (1e-4, 4.0)
 #: the IAAFT marginal's allowed number of quantiles and of iterations
 QUANTILES = (3, 2001)
 ITERATIONS = (1, 1000)
@@ -70,6 +79,11 @@ RANGES = {
     "tail_probability": (0.0, 0.25, False),
     "frequency_min_per_um": (0.0, 1e9, False),
     "frequency_max_per_um": (0.0, 1e9, False),
+    "frequencies_x_per_um": (-1e9, 1e9, True),
+    "frequencies_y_per_um": (-1e9, 1e9, True),
+    "bandwidths_a_per_um": (0.0, 1e9, False),
+    "bandwidths_b_per_um": (0.0, 1e9, False),
+    "axes_deg": (-360.0, 360.0, True),
 }
 _TOP = {"format", "version", "equation", "kind", "stage", "description", "hyperparameters",
         "spacing_um", "marginal", "operators", "cutoffs", "data", "fit", "roughgp_version"}
@@ -149,6 +163,8 @@ def check_fields(equation, hyperparameters, spacing, marginal, cutoffs, stage, o
         number("mean_um", hp["mean_um"])
     if equation == "measured-psd":
         _check_psd(hp)
+    elif equation == "sm2d":
+        _check_sm2d(hp, spacing)
     elif kind == "surface":
         for name in ("variance_um2", "lambda_a_um", "lambda_b_um", "angle_deg"):
             number(name, hp[name])
@@ -235,6 +251,30 @@ def _check_psd(hp):
     if not low < high:
         raise ModelFileError(f"frequency_min_per_um must be smaller than frequency_max_per_um, "
                              f"got {low:g} and {high:g}")
+
+
+def _check_sm2d(hp, spacing):
+    """The 2-D spectral mixture: lists of 1 to :data:`MAX_SM2D_COMPONENTS` numbers of one
+    length, each frequency within the Nyquist frequency of its axis at ``spacing`` (dy, dx), each
+    bandwidth within :data:`SM2D_BANDWIDTHS` times the Nyquist frequency."""
+    names = EQUATIONS["sm2d"][1][:6]
+    lists = {n: _numbers(n, hp[n], count=range(1, MAX_SM2D_COMPONENTS + 1)) for n in names}
+    if len({len(v) for v in lists.values()}) != 1:
+        raise ModelFileError(f"{', '.join(names)} must have the same length")
+    nyquist = {"frequencies_y_per_um": 0.5 / spacing[0], "frequencies_x_per_um": 0.5 / spacing[1]}
+    for name, limit in nyquist.items():
+        for i, f in enumerate(lists[name]):
+            if abs(f) > limit * (1 + 1e-9):
+                raise ModelFileError(f"{name}[{i}] must be within the Nyquist frequency "
+                                     f"[-{limit:g}, {limit:g}] 1/um of the spacing, got {f!r}")
+    top = 0.5 / min(spacing)
+    low, high = SM2D_BANDWIDTHS[0] * 0.5 / max(spacing), SM2D_BANDWIDTHS[1] * top
+    for name in ("bandwidths_a_per_um", "bandwidths_b_per_um"):
+        for i, b in enumerate(lists[name]):
+            if not low <= b <= high:
+                raise ModelFileError(f"{name}[{i}] must be within [{low:g}, {high:g}] 1/um "
+                                     f"({SM2D_BANDWIDTHS[0]:g} to {SM2D_BANDWIDTHS[1]:g} times "
+                                     f"the Nyquist frequency), got {b!r}")
 
 
 def _check_cutoffs(cutoffs):
