@@ -36,9 +36,10 @@ CASES = ((1.0, 8.0, 3.0, 30.0, 0.01), (2.0, 5.0, 5.0, 0.0, 0.05), (0.5, 12.0, 2.
 class CheckRanks:
     """One synthetic measurement checked against one model with ``n_draws`` simulations: per
     parameter (in the calibration's ``names`` order) the measured value, the simulated values
-    above, below and equal to it and the finite ones (:func:`~roughgp.beyond.measured.
-    check_ranks.rank_counts`), and the parameters outside the plain check of the first
-    ``n_simulations`` draws (what ``roughgp check`` with the same seed says)."""
+    above, below and equal to it and the finite ones
+    (:func:`~roughgp.beyond.measured.check_ranks.rank_counts`), and the parameters outside the
+    plain check of the first ``n_simulations`` draws (what ``roughgp check`` with the same seed
+    says)."""
 
     measured: tuple
     above: tuple
@@ -130,8 +131,9 @@ class Calibration:
                          for r in self._ranks(which)], dtype=np.float64)
 
     def outside_probabilities(self, which="fitted") -> np.ndarray:
-        """The Rao-Blackwellised verdicts (:func:`~roughgp.beyond.measured.check_ranks.
-        outside_probability` of the ranks among ``n_draws``), cases x parameters."""
+        """The Rao-Blackwellised verdicts
+        (:func:`~roughgp.beyond.measured.check_ranks.outside_probability` of the ranks among
+        ``n_draws``), cases x parameters."""
         ranks = self._ranks(which)
         return np.array([outside_probability(r.above, r.below, r.finite, self.n_simulations)
                          for r in ranks])

@@ -35,3 +35,20 @@ def test_a_new_module_without_an_entry_is_named_and_then_added(tmp_path):
     assert api.missing_modules(package, pages) == []
     text = (pages / "common.md").read_text()
     assert text.index("roughgp.common.new") < text.index("roughgp.common.old")
+
+
+def test_every_cross_reference_of_the_sources_names_something():
+    broken = api.broken_references()
+    assert not broken, "cross-references make book -n would not resolve: " + "; ".join(broken)
+
+
+def test_a_reference_split_over_two_lines_or_naming_nothing_is_found(tmp_path):
+    package = tmp_path / "roughgp"
+    package.mkdir()
+    (package / "mod.py").write_text(
+        '"""See :func:`~roughgp.beyond.measured.\n    check_ranks.rank_counts`, '
+        ':func:`roughgp.sampling.no_such_function`, :class:`roughgp.sampling.SamplingInfo` '
+        'and :func:`numpy.fft.rfft`."""\n')
+    assert api.broken_references(package) == [
+        "roughgp/mod.py:1: 'roughgp.beyond.measured.\\n    check_ranks.rank_counts'",
+        "roughgp/mod.py:2: 'roughgp.sampling.no_such_function'"]
