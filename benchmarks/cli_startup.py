@@ -59,7 +59,9 @@ def _command(arguments, tmp) -> list[str]:
 
 
 def _environment(root=ROOT) -> dict:
-    return {**os.environ, "PYTHONPATH": str(root), "OMP_NUM_THREADS": "1"}
+    """The caller's environment (its thread settings too: a command runs as a user runs it;
+    pinning OMP_NUM_THREADS=1 here hid a slowdown of the default two BLAS threads)."""
+    return {**os.environ, "PYTHONPATH": str(root)}
 
 
 def wall_time(arguments, tmp, root=ROOT) -> tuple[float, float | None]:
@@ -129,7 +131,9 @@ def main(argv=None) -> int:
     cases = [c for c in CASES if not args.targets or c[0] in TARGETS]
     import tempfile
     with tempfile.TemporaryDirectory() as tmp:
-        print(f"python {sys.version.split()[0]}, {os.cpu_count()} cores, OMP_NUM_THREADS=1; "
+        threads = os.environ.get("OMP_NUM_THREADS", "unset")
+        print(f"python {sys.version.split()[0]}, {os.cpu_count()} cores, OMP_NUM_THREADS="
+              f"{threads}; "
               f"{args.repeats} runs per case; times: fastest, median (wall, and simulate's "
               f"own draw)")
         header = f"{'command':<56} {'this tree (s)':<25}"

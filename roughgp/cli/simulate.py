@@ -292,7 +292,7 @@ def _report_sampler(steps, shape, spacing, method, device) -> None:
     from roughgp import sampling
     from roughgp.sampling import block_levinson
     for i, step in enumerate(steps):
-        chosen, why = sampling.choose_method(step.covariance(), shape, spacing)
+        chosen, why = sampling.choose_method(step.covariance(), shape, spacing, device=device)
         which = f"step {i + 1}: " if len(steps) > 1 else ""
         if method == "auto":
             err(f"sampler {which}{chosen} ({why})")

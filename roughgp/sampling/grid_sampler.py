@@ -28,7 +28,6 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
-import scipy.linalg
 
 from roughgp.common.checks import as_numpy
 from roughgp.common.checks import as_generator as _rng
@@ -194,6 +193,8 @@ def _cholesky_factor(covariance):
             if int(failed):
                 continue
         else:
+            import scipy.linalg  # here: the block-Levinson route and a start need none of it
+
             try:
                 a = covariance + rel * scale * np.eye(len(covariance)) if rel else covariance
                 factor = scipy.linalg.cholesky(a, lower=True, check_finite=False,
@@ -369,11 +370,13 @@ def _draw_circulant(kernel, shape, spacing, n_samples, rng, info, approximate, d
 _FLOPS_PER_SECOND = 2e10  # dense linear algebra on the reference 2-core machine
 
 
-def choose_method(kernel, shape, spacing=1.0, n_samples=1):
+def choose_method(kernel, shape, spacing=1.0, n_samples=1, *, device=None):
     """The cheapest exact method for this kernel and grid, and why.
 
-    Cost model (seconds, reference machine): Cholesky ``N^3 / 3 + N^2 n`` flops at 2e10 flop/s,
-    and infinite when the dense covariance does not fit in memory; circulant embedding
+    Cost model (seconds, reference machine): Cholesky ``N^3 / 3 + N^2 n`` flops at 2e10 flop/s
+    (on the CPU, where the block-Levinson factor is worthwhile,
+    :func:`roughgp.sampling.block_levinson.flops` instead), and infinite when the dense
+    covariance does not fit in memory; circulant embedding
     ``(2 + ceil(n / 2)) * 5 M log2 M`` flops for the search and the FFTs on the torus of M
     points that :func:`roughgp.sampling.circulant.predict_torus` expects (a few FFTs of a coarse
     copy of the grid; skipped when the dense covariance does not fit in memory).
@@ -391,9 +394,13 @@ def choose_method(kernel, shape, spacing=1.0, n_samples=1):
     dense_bytes = 2 * n_points**2 * _BYTES
     if dense_bytes > 0.8 * _available_bytes():  # no need to predict the torus (a search)
         return "circulant", "circulant (the dense covariance of Cholesky is out of memory)"
-    cholesky_cost = (n_points**3 / 3 + n_points**2 * n_samples) / _FLOPS_PER_SECOND
+    factor_flops = n_points**3 / 3
+    by_blocks = device is None and block_levinson.worthwhile(shape)
+    if by_blocks:  # the CPU factorises by block Levinson (_cached_factor)
+        factor_flops = block_levinson.flops(shape)
+    cholesky_cost = (factor_flops + n_points**2 * n_samples) / _FLOPS_PER_SECOND
     key, mirror = _table_keys(_lag_table(kernel, shape, spacing), shape, spacing)
-    key = (min(key, mirror or key), n_samples)
+    key = (min(key, mirror or key), n_samples, by_blocks)
     if key not in _CHOICES:
         _CHOICES[key] = _cheaper(kernel, shape, spacing, n_samples, cholesky_cost)
         while len(_CHOICES) > _CHOICES_SIZE:
@@ -486,7 +493,7 @@ def sample_grid(kernel, shape, *, spacing=1.0, n_samples=1, method="auto", seed=
     n_samples = int(n_samples)
     reason = "requested"
     if method == "auto":
-        method, reason = choose_method(kernel, shape, spacing, n_samples)
+        method, reason = choose_method(kernel, shape, spacing, n_samples, device=device)
         _LOG.info("sample_grid chose method=%r: %s", method, reason)
     info = SamplingInfo(method=method, reason=reason)
     if method == "cholesky":

@@ -35,13 +35,18 @@ def _recording_search(monkeypatch):
 
 def test_a_long_correlation_on_a_small_grid_takes_cholesky_without_the_full_search(monkeypatch):
     """Figure 3's first step on 64 x 64: the circulant torus is about 2688 x 2688 (7.2e6
-    points); the search stops at the budget of a quarter of the Cholesky (~2.7e6 points)."""
-    calls = _recording_search(monkeypatch)
-    method, reason = choose_method(surfaces.FIGURE_3[0].kernel(), (64, 64))
-    assert method == "cholesky" and "more than" in reason
-    assert len(calls) == 1 and calls[0] < 2688 ** 2
-    cholesky = (4096 ** 3 / 3 + 4096 ** 2) / grid_sampler._FLOPS_PER_SECOND
-    assert grid_sampler._fft_cost(calls[0], 2) <= grid_sampler.SEARCH_SHARE * cholesky
+    points); the search stops at the budget of a quarter of the Cholesky it would replace: on
+    the CPU the block-Levinson factor's (2.2e9 flops, a torus of ~3e5 points), on a device the
+    dense factor's (2.3e10 flops, ~2.7e6 points)."""
+    for device, factor_flops in ((None, 2 * 64 ** 5 + 1e6 * 64), ("cuda", 4096 ** 3 / 3)):
+        calls = _recording_search(monkeypatch)
+        method, reason = choose_method(surfaces.FIGURE_3[0].kernel(), (64, 64), device=device)
+        assert method == "cholesky" and "more than" in reason
+        assert len(calls) == 1 and calls[0] < 2688 ** 2
+        cholesky = (factor_flops + 4096 ** 2) / grid_sampler._FLOPS_PER_SECOND
+        assert f"Cholesky ~{cholesky:.2g} s" in reason
+        assert grid_sampler._fft_cost(calls[0], 2) <= grid_sampler.SEARCH_SHARE * cholesky
+        assert grid_sampler._fft_cost(2 * calls[0], 2) > grid_sampler.SEARCH_SHARE * cholesky
 
 
 def test_a_short_correlation_still_takes_circulant(monkeypatch):
