@@ -31,14 +31,21 @@ def main(argv=None) -> int:
     """Run ``roughgp`` with ``argv`` (default ``sys.argv[1:]``); returns the exit code."""
     parser = build_parser()
     try:
-        args = parser.parse_args(argv)
+        args, unknown = parser.parse_known_args(argv)
     except SystemExit as exc:  # --help, --version (0) and argparse's usage errors (2)
         return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)
     if args.command is None:
+        if unknown:
+            err(f"roughgp: error: unrecognized arguments: {' '.join(unknown)}")
         parser.print_help(sys.stderr)
         return 2
     kind = getattr(args, "kind", None) if args.command == "simulate" else None
     name = f"roughgp {args.command}" + (f" {kind}" if kind else "")
+    if unknown:  # named by the command that does not take them, not by roughgp's usage
+        err(f"{name}: error: unrecognized arguments: {' '.join(unknown)}"
+            + _OPERATORS_OF_THE_MODEL.get(args.command, "")
+            + f" (roughgp {args.command} --help lists its options)")
+        return 2
     try:
         check_bounds(args)
         with warnings.catch_warnings():
@@ -66,6 +73,11 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         err(f"{name}: interrupted")
         return 130
+
+
+#: why a command refuses the operator options: it takes them from the model file
+_OPERATORS_OF_THE_MODEL = {
+    "check": "; check applies the operators (form, S- and L-filter) stated in MODEL.json"}
 
 
 def _silence_stdout() -> None:

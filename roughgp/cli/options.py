@@ -56,6 +56,7 @@ BOUNDS = {
     "--block": Bound(4, 32),
     "--blocks": Bound(1, 200),
     "--simulations": Bound(2, 99),
+    "--calibrate": Bound(1, 99),
     "--samples": Bound(2, 256),
 }
 

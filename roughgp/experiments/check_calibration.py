@@ -20,7 +20,7 @@ from roughgp.beyond.measured.check_ranks import (outside_probability, pit_pvalue
 from roughgp.beyond.measured.model import FittedModel
 
 __all__ = ["CASES", "MIN_CASES_FOR_VERDICT", "CheckRanks", "CalibrationCase", "Calibration",
-           "RECORDED", "load_calibration", "plot_shares"]
+           "RECORDED", "load_calibration", "plot_intervals", "plot_shares"]
 
 #: the cases below which no verdict on 10 % +- 3 % is given: the per-case RB values are
 #: skewed (most near 0, a few near 1), and over a few cases their standard deviation, and so
@@ -332,25 +332,33 @@ def load_calibration(path=RECORDED) -> Calibration:
     return Calibration.from_records(json.loads(line) for line in lines if line.strip())
 
 
-def plot_shares(cal: Calibration, ax=None, *, title=None):
-    """Per parameter the Rao-Blackwellised share outside (%) with its 95 % interval, against
-    the true and the fitted model, and the band 10 % +- 3 %. Returns the figure."""
+def plot_intervals(names, level, series, ax, title):
+    """Per parameter of ``names`` the shares of ``series`` (``(label, rows, key)``: ``rows`` a
+    summary whose ``key``, ``key_low``, ``key_high`` are a share and its interval) side by side,
+    and the band ``level`` +- 3 %. Returns the figure."""
     import matplotlib.pyplot as plt
     if ax is None:
         _, ax = plt.subplots(figsize=(8.8, 3.2))
-    x = np.arange(len(cal.names))
-    ax.axhspan(100 * (cal.expected - 0.03), 100 * (cal.expected + 0.03), color="0.88",
-               label="10 % ± 3 %")
-    ax.axhline(100 * cal.expected, color="k", lw=1)
-    for shift, which, label in ((-0.15, "true", "true model"), (0.15, "fitted", "fitted model")):
-        rows = cal.summary(which)
-        share = np.array([100 * r["rb"] for r in rows])
-        low = share - np.array([100 * r["rb_low"] for r in rows])
-        high = np.array([100 * r["rb_high"] for r in rows]) - share
+    x = np.arange(len(names))
+    ax.axhspan(100 * (level - 0.03), 100 * (level + 0.03), color="0.88", label="10 % ± 3 %")
+    ax.axhline(100 * level, color="k", lw=1)
+    for shift, (label, rows, key) in zip((-0.15, 0.15), series):
+        share = np.array([100 * r[key] for r in rows])
+        low = share - np.array([100 * r[key + "_low"] for r in rows])
+        high = np.array([100 * r[key + "_high"] for r in rows]) - share
         ax.errorbar(x + shift, share, yerr=[low, high], fmt="o", ms=4, capsize=2, label=label)
-    ax.set_xticks(x, cal.names)
+    ax.set_xticks(x, names)
     ax.set_ylabel("cases outside (%)")
-    ax.set_title(title or f"{len(cal.cases)} synthetic measurements, {cal.n_draws} simulations "
-                 f"per check", fontsize=10)
+    ax.set_title(title, fontsize=10)
     ax.legend(fontsize=9, ncol=3)
     return ax.figure
+
+
+def plot_shares(cal: Calibration, ax=None, *, title=None):
+    """Per parameter the Rao-Blackwellised share outside (%) with its 95 % interval, against
+    the true and the fitted model, and the band 10 % +- 3 %. Returns the figure."""
+    return plot_intervals(cal.names, cal.expected,
+                           [("true model", cal.summary("true"), "rb"),
+                            ("fitted model", cal.summary("fitted"), "rb")], ax,
+                           title or f"{len(cal.cases)} synthetic measurements, {cal.n_draws} "
+                                    f"simulations per check")

@@ -10,9 +10,8 @@ r"""Draws of a latent surface on a regular grid, eq 10: :math:`\mathbf G \sim \m
 * ``"lanczos"``: the paper's approximation (LOVE, Pleiss et al. 2018): GPyTorch's
   ``root_decomposition(method="lanczos")`` with ``rank`` Lanczos iterations gives
   :math:`\mathbf R \approx \mathbf Q\mathbf T\mathbf Q^\top` of rank ``rank``; the draw is
-  :math:`\mathbf Q\mathbf T^{1/2}\boldsymbol\varepsilon`. A low rank loses variance: the kept
-  share of the trace is reported (GPyTorch's ``MultivariateNormal.rsample()`` takes rank 100
-  once N exceeds 800).
+  :math:`\mathbf Q\mathbf T^{1/2}\boldsymbol\varepsilon`. A low rank loses variance (the kept
+  share of the trace is reported; GPyTorch's ``rsample()`` takes rank 100 once N > 800).
 * ``"circulant"``: exact in O(N log N) by circulant embedding (:mod:`roughgp.sampling.circulant`);
   an additive kernel (eq 22) is drawn as two profiles and summed, exactly, in O(N).
 * ``"auto"``: the cheapest exact method by a cost model (see :func:`choose_method`).
@@ -193,9 +192,8 @@ def _cholesky_factor(covariance):
             if int(failed):
                 continue
         else:
-            import scipy.linalg  # here: the block-Levinson route and a start need none of it
-
             try:
+                import scipy.linalg  # here: the block-Levinson route needs none of it
                 a = covariance + rel * scale * np.eye(len(covariance)) if rel else covariance
                 factor = scipy.linalg.cholesky(a, lower=True, check_finite=False,
                                                overwrite_a=a is not covariance)
@@ -246,14 +244,13 @@ def _draw_cholesky(kernel, shape, spacing, n_samples, rng, info, device=None):
 
 
 def _canonical_table(kernel, shape, spacing):
-    """The lag table a Cholesky draw factorises: the kernel's own, or its mirror image along x
-    where the mirror image is the canonical one of the two (its covariance along the
-    diagonal lag (-(ny - 1), -(nx - 1)) is larger than along the anti-diagonal, as for a lay
-    angle in (0, 90) degrees; ties by the key of :func:`_table_keys`); ``(table, mirrored,
-    key)``. A draw from the mirror image's factor, flipped along x, has exactly the kernel's
-    covariance, so a kernel and its mirror image (eq 19's +phi and -phi) share one
-    factorisation, and which table is factorised does not depend on what was drawn before
-    (the same seed, the same draw; a positive angle's draws are those of before)."""
+    """The lag table a Cholesky draw factorises, ``(table, mirrored, key)``: the kernel's own, or
+    its mirror image along x where that is the canonical one of the two (its covariance along
+    the diagonal lag (-(ny - 1), -(nx - 1)) is larger than along the anti-diagonal, as for a
+    lay angle in (0, 90) degrees; ties by :func:`_table_keys`). A draw from the mirror image's
+    factor, flipped along x, has exactly the kernel's covariance: a kernel and its mirror image
+    (eq 19's +-phi) share one factorisation, whatever was drawn before (the same seed, the
+    same draw; a positive angle's draws are those of before)."""
     table = _lag_table(kernel, shape, spacing)
     key, mirror = _table_keys(table, shape, spacing)
     if mirror is not None:
@@ -374,19 +371,17 @@ def choose_method(kernel, shape, spacing=1.0, n_samples=1, *, device=None):
     """The cheapest exact method for this kernel and grid, and why.
 
     Cost model (seconds, reference machine): Cholesky ``N^3 / 3 + N^2 n`` flops at 2e10 flop/s
-    (on the CPU, where the block-Levinson factor is worthwhile,
-    :func:`roughgp.sampling.block_levinson.flops` instead), and infinite when the dense
-    covariance does not fit in memory; circulant embedding
+    (the block-Levinson factor's :func:`~roughgp.sampling.block_levinson.flops` on the CPU where
+    worthwhile), infinite when the dense covariance does not fit in memory; circulant embedding
     ``(2 + ceil(n / 2)) * 5 M log2 M`` flops for the search and the FFTs on the torus of M
     points that :func:`roughgp.sampling.circulant.predict_torus` expects (a few FFTs of a coarse
     copy of the grid; skipped when the dense covariance does not fit in memory).
-    The search itself is bounded: it may cost at most :data:`SEARCH_SHARE` of the Cholesky
-    factorisation (by the same model), so on a small grid whose correlation length needs a
-    huge torus (figure 3's lambda_a = 500 on 64 x 64 points: about 2688 x 2688) Cholesky is
-    taken once the search passes that torus size, without searching further. The answer is
-    kept for the kernel's lag table, which its mirror image (eq 19's -phi) shares.
-    An additive kernel (eq 22) always goes to the O(N) circulant route.
-    """
+    The search may cost at most :data:`SEARCH_SHARE` of the Cholesky (same model): on a small
+    grid whose correlation length needs a huge torus (figure 3's lambda_a = 500 on 64 x 64
+    points: about 2688 x 2688) Cholesky is taken once the search passes that budget. The answer
+    is kept for the kernel's lag table, which its mirror image (eq 19's -phi) shares. An
+    additive kernel (eq 22) always goes to the O(N) circulant route. ``device``: not None, the
+    dense factor's cost (a device factorises densely)."""
     shape, spacing = normalize(shape, spacing)
     if is_additive(kernel) and len(shape) == 2:
         return "circulant", "additive kernel (eq 22): two exact profiles, O(N)"
@@ -394,10 +389,8 @@ def choose_method(kernel, shape, spacing=1.0, n_samples=1, *, device=None):
     dense_bytes = 2 * n_points**2 * _BYTES
     if dense_bytes > 0.8 * _available_bytes():  # no need to predict the torus (a search)
         return "circulant", "circulant (the dense covariance of Cholesky is out of memory)"
-    factor_flops = n_points**3 / 3
-    by_blocks = device is None and block_levinson.worthwhile(shape)
-    if by_blocks:  # the CPU factorises by block Levinson (_cached_factor)
-        factor_flops = block_levinson.flops(shape)
+    by_blocks = device is None and block_levinson.worthwhile(shape)  # as _cached_factor does
+    factor_flops = block_levinson.flops(shape) if by_blocks else n_points**3 / 3
     cholesky_cost = (factor_flops + n_points**2 * n_samples) / _FLOPS_PER_SECOND
     key, mirror = _table_keys(_lag_table(kernel, shape, spacing), shape, spacing)
     key = (min(key, mirror or key), n_samples, by_blocks)
@@ -417,10 +410,10 @@ def _cheaper(kernel, shape, spacing, n_samples, cholesky_cost):
     """:func:`choose_method`'s comparison once Cholesky fits in memory."""
     passes = 2 + math.ceil(n_samples / 2)
     least = circulant.minimal_torus(shape)
-    if cholesky_cost <= _fft_cost(int(np.prod(least)), passes):  # even the least torus costs more
-        return "cholesky", (f"Cholesky ~{cholesky_cost:.2g} s vs circulant ~"
-                            f"{_fft_cost(int(np.prod(least)), passes):.2g} s or more (the "
-                            f"smallest torus, {least})")
+    smallest = _fft_cost(int(np.prod(least)), passes)
+    if cholesky_cost <= smallest:  # even the least torus costs more
+        return "cholesky", (f"Cholesky ~{cholesky_cost:.2g} s vs circulant ~{smallest:.2g} s "
+                            f"or more (the smallest torus, {least})")
     budget = SEARCH_SHARE * cholesky_cost
     cap = 2**40  # the largest torus the search may try: its two passes within the budget
     for _ in range(8):

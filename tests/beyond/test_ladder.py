@@ -56,3 +56,29 @@ def test_refusals():
     with pytest.raises(ValueError, match="nu of the matern rung"):
         fit_rung("matern", z, 1.0, nu=0.5)
     assert RUNGS == ("eq18", "matern", "sm", "psd")
+
+
+def test_the_reason_names_simpler_rungs_clearly_worse_and_richer_ones_no_better():
+    """A best rung that is the simplest says the richer ones are no better (not "clearly
+    worse": they may be within a standard error); a best rung after simpler ones that missed
+    by more than a standard error calls those clearly worse."""
+    import dataclasses as dc
+
+    from roughgp.beyond.measured import ladder
+    from roughgp.beyond.measured.self_check import FillSelfCheck
+    held = np.zeros((8, 8), dtype=bool)
+    held[::2, ::2] = True  # 16 single-point discs
+    truth = np.zeros(16)
+    noise = np.random.default_rng(0).standard_normal(16)
+
+    def rung(name, scale):
+        check = FillSelfCheck(held, truth, {"GP": scale * noise, "linear": noise}, np.ones(16),
+                              0.5, 0.0)
+        return ladder.Rung(name, None, check, 0.0)
+    rungs = [rung("eq18", 1.0), rung("matern", 1.001), rung("sm", 3.0)]
+    chosen, why = ladder._better(rungs)
+    assert chosen.name == "eq18" and "the richer matern, sm no better" in why
+    assert "clearly worse" not in why
+    chosen, why = ladder._better([dc.replace(rungs[2], name="eq18"),
+                                  dc.replace(rungs[0], name="matern")])
+    assert chosen.name == "matern" and "the simpler eq18 clearly worse" in why

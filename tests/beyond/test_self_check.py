@@ -193,6 +193,8 @@ def test_fill_refuses_nu_it_cannot_use():
     # a model can be self-checked: its own smoothness is the one checked
     checked = fill_measured_surface(z, model=model, self_check=True, seed=0)
     assert list(checked.self_checks) == [0.5] and checked.fit is None
+    # and its summary names the model's kernel, not a smoothness it may not have
+    assert "held out and filled (the model's eq18)" in checked.self_check.summary()
 
 
 def test_block_fit_from_a_start_reaches_the_optimum_of_the_grid_of_starts():

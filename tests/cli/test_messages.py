@@ -158,3 +158,16 @@ def test_target_and_step_errors_name_the_options(capsys, tmp_path):
     code, _, err = _run(capsys, "simulate", "honed", "--shape", "8", "8", "--step", "1", "5",
                         "3", "nan", "--out", tmp_path / "h.npy")
     assert code == 2 and "--step ANGLE_DEG must be a finite angle" in err
+
+
+def test_an_option_the_command_does_not_take_is_named_by_that_command(capsys, tmp_path):
+    """Not roughgp's top-level usage: the command, the arguments, and for check why the
+    operator options are not its own."""
+    code, _, err = _run(capsys, "check", tmp_path / "m.json", tmp_path / "m.npy",
+                        "--l-filter", 5)
+    assert code == 2
+    assert err.startswith("roughgp check: error: unrecognized arguments: --l-filter 5")
+    assert "stated in MODEL.json" in err and "usage: roughgp [-h]" not in err
+    code, _, err = _run(capsys, "texture", tmp_path / "m.npy", "--bogus")
+    assert code == 2 and "roughgp texture: error: unrecognized arguments: --bogus" in err
+    assert "MODEL.json" not in err

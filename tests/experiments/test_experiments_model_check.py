@@ -133,3 +133,36 @@ def test_shares_by_model_group_the_cases_by_their_known_model():
     for k in range(5):
         assert by_model[k]["Sq"] == pytest.approx(rb[[k, k + 5]].mean())
     assert by_model[0]["Sq"] == pytest.approx(1.0) and by_model[1]["Sq"] < 0.01
+
+
+def _bootstrap_record(index, observed, copies, plain, outside, chance):
+    return {"index": index, "shape": [64, 64], "seed": 0, "names": ["Sq", "Sal"],
+            "n_simulations": 19, "n_bootstrap": len(copies[0]), "level": 0.1,
+            "observed": observed, "bootstrap": copies, "p": [0.5, 0.5], "chance": chance,
+            "plain_outside": plain, "outside": outside, "fit_seconds": 1.0,
+            "bootstrap_seconds": 20.0}
+
+
+def test_the_bootstrap_calibration_counts_shares_and_the_copies_yardstick():
+    from roughgp.experiments.bootstrap_calibration import BootstrapCalibration
+    records = [_bootstrap_record(1, [0.0, 3.0], [[0.0, 5.0], [2.0, 0.0]], ["Sq"], [], [0.5, 0.0]),
+               _bootstrap_record(0, [4.0, np.nan], [[1.0, 2.0], [3.0, 4.0]], [], ["Sq"],
+                                 [0.0, np.nan])]
+    boot = BootstrapCalibration.from_records(records)
+    assert [r["index"] for r in boot.records] == [0, 1]
+    np.testing.assert_array_equal(boot.values("plain"), [[0, np.nan], [1, 0]])
+    np.testing.assert_array_equal(boot.values("calibrated"), [[1, np.nan], [0, 0]])
+    rows = {r["parameter"]: r for r in boot.summary()}
+    assert rows["Sq"]["chance"] == pytest.approx(0.25) and rows["Sal"]["chance"] == 0.0
+    assert np.isnan(rows["Sal"]["chance_low"])  # one finite case: no interval
+    assert rows["Sq"]["within"] == "too few cases"
+    # the measurements' share outside the range against the copies': Sq 1 of 2 and 1 of 4
+    assert boot.outside_ranges()["Sq"] == (0.5, 0.25)
+    assert boot.outside_ranges()["Sal"] == (0.0, 0.25)
+    assert boot.seconds() == (1.0, 20.0)
+    with pytest.raises(ValueError, match="settings differ"):
+        BootstrapCalibration.from_records([records[0], {**records[1], "n_bootstrap": 9}])
+    with pytest.raises(ValueError, match="occurs twice"):
+        BootstrapCalibration.from_records([records[0], records[0]])
+    with pytest.raises(ValueError, match="kind must be"):
+        boot.values("rb")

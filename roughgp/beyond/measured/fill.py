@@ -18,7 +18,7 @@ all measured points (:func:`roughgp.beyond.gap_filling.fill_gaps`: conjugate gra
 pathwise draws for the sd), best for synthetic, well-conditioned cases; its CG may not
 converge on such measurements (``gaps.converged`` says so).
 
-``self_check=True`` holds out 2 % of the measured points first (at most 2000), fits
+``self_check=True`` holds out 2 % of the measured points first (at most 5000), fits
 without them, fills them and compares with their heights and with linear interpolation
 (:mod:`roughgp.beyond.measured.self_check`): it says whether the fill beats linear
 interpolation on this file and calibrates the band (:attr:`MeasuredFill.band_factor`).
@@ -154,7 +154,7 @@ def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, 
     if method not in ("local", "global"):
         raise ValueError(f"method must be 'local' or 'global', got {method!r}")
     if model is not None and (not isinstance(model, FittedModel) or model.kind != "surface"):
-        raise ValueError("model must be a FittedModel of a surface (eq 18)")
+        raise ValueError("model must be a FittedModel of a surface")
     if nu != "auto" and nu not in NU_CHOICES:
         raise ValueError(f"nu must be one of {NU_CHOICES} or 'auto', got {nu!r}")
     if nu == "auto" and model is not None:
@@ -190,7 +190,8 @@ def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, 
         if held_out is not None:
             checks[nu] = self_check_fill(residual, kernel, noise_variance=noise_variance,
                                          spacing=(dy, dx), held_out=held_out, nu=nu,
-                                         margin=margin)
+                                         margin=margin,
+                                         kernel_name=f"the model's {model.equation}")
     if method == "local":
         gaps = fill_gaps_locally(residual, kernel, noise_variance=noise_variance,
                                  spacing=(dy, dx), mask=mask, tile=tile, margin=margin)

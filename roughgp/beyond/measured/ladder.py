@@ -109,12 +109,15 @@ def fit_rung(name, z, spacing, *, form="plane", s=None, l=None, degree=2, axis="
 def _better(rungs):
     """The simplest rung within one standard error of the best, and the sentence why."""
     best = min(rungs, key=lambda r: r.rmse)
-    for rung in rungs:
-        if rung is best:
-            others = [r.name for r in rungs if r is not best]
+    for i, rung in enumerate(rungs):
+        if rung is best:  # every simpler rung was more than a standard error worse
+            simpler = [r.name for r in rungs[:i]]
+            richer = [r.name for r in rungs[i + 1:]]
             return rung, (f"{best.name} predicts the held-out points best (RMSE "
-                          f"{best.rmse:.4g} um)" + (f"; {', '.join(others)} clearly worse"
-                                                    if others else ""))
+                          f"{best.rmse:.4g} um)"
+                          + (f"; the simpler {', '.join(simpler)} clearly worse"
+                             if simpler else "")
+                          + (f"; the richer {', '.join(richer)} no better" if richer else ""))
         excess, se = mse_difference(rung.check, best.check)
         if excess <= se:
             return rung, (f"{rung.name} is the simplest within one standard error of the best "
