@@ -52,6 +52,7 @@ import time
 import numpy as np
 
 from roughgp.beyond.measured.check import ModelCheck, check_model
+from roughgp.beyond.measured.check_ranks import rank_counts
 from roughgp.beyond.measured.model import FittedModel
 
 __all__ = ["LEVEL", "MAX_BOOTSTRAP", "RUNG_OF_EQUATION", "CalibratedCheck", "extremeness",
@@ -66,15 +67,13 @@ RUNG_OF_EQUATION = {"eq18": "eq18", "eq18-matern": "matern", "sm2d": "sm",
 
 def extremeness(check: ModelCheck) -> dict:
     """``{parameter: min(simulations below, simulations above)}`` of a plain check, the finite
-    simulations only (0: outside their range; NaN where the measured value or every simulated
-    one is not finite). Std's simulations are unwrapped as the check unwraps them."""
+    simulations only (:func:`~roughgp.beyond.measured.check_ranks.rank_counts`; 0: outside
+    their range; NaN where the measured value or every simulated one is not finite). Std's
+    simulations are unwrapped as the check unwraps them."""
     out = {}
     for p in check.parameters:
-        finite = p.simulated[np.isfinite(p.simulated)]
-        if not np.isfinite(p.measured) or finite.size == 0:
-            out[p.name] = np.nan
-            continue
-        out[p.name] = float(min(np.sum(finite < p.measured), np.sum(finite > p.measured)))
+        above, below, _, finite = rank_counts(p.measured, p.simulated)
+        out[p.name] = float(min(above, below)) if np.isfinite(p.measured) and finite else np.nan
     return out
 
 
@@ -110,28 +109,36 @@ def refit_like(model: FittedModel, z, spacing=None) -> FittedModel:
     return fitted
 
 
-def calibrated_p(observed, bootstrap, u) -> float:
-    """:math:`(\\#\\{e_b < e\\} + u\\,(\\#\\{e_b = e\\} + 1)) / (B + 1)` over the finite
-    ``bootstrap`` extremeness values (module docstring); NaN where ``observed`` is NaN or no
-    bootstrap value is finite. ``u`` in [0, 1)."""
+def _below_and_tied(observed, bootstrap):
+    """``(#{e_b < e}, #{e_b = e}, B)`` over the finite ``bootstrap`` values, or None where
+    ``observed`` is NaN or no bootstrap value is finite."""
     b = np.asarray(bootstrap, dtype=np.float64)
     b = b[np.isfinite(b)]
     if not np.isfinite(observed) or b.size == 0:
+        return None
+    return int(np.sum(b < observed)), int(np.sum(b == observed)), b.size
+
+
+def calibrated_p(observed, bootstrap, u) -> float:
+    """:math:`(\#\{e_b < e\} + u\,(\#\{e_b = e\} + 1)) / (B + 1)` over the finite
+    ``bootstrap`` extremeness values (module docstring); NaN where ``observed`` is NaN or no
+    bootstrap value is finite. ``u`` in [0, 1)."""
+    counts = _below_and_tied(observed, bootstrap)
+    if counts is None:
         return np.nan
-    lower, equal = int(np.sum(b < observed)), int(np.sum(b == observed))
-    return (lower + u * (equal + 1)) / (b.size + 1)
+    lower, equal, size = counts
+    return (lower + u * (equal + 1)) / (size + 1)
 
 
 def outside_chance(observed, bootstrap, level=LEVEL) -> float:
     """The probability over the tie-breaking draw :math:`U` that :func:`calibrated_p` is at most
     ``level``: the verdict's expectation given the bootstrap values (a lower-variance measure of
     how often the check says "outside" over many cases); NaN like :func:`calibrated_p`."""
-    b = np.asarray(bootstrap, dtype=np.float64)
-    b = b[np.isfinite(b)]
-    if not np.isfinite(observed) or b.size == 0:
+    counts = _below_and_tied(observed, bootstrap)
+    if counts is None:
         return np.nan
-    lower, equal = int(np.sum(b < observed)), int(np.sum(b == observed))
-    return float(np.clip((level * (b.size + 1) - lower) / (equal + 1), 0.0, 1.0))
+    lower, equal, size = counts
+    return float(np.clip((level * (size + 1) - lower) / (equal + 1), 0.0, 1.0))
 
 
 @dataclasses.dataclass(frozen=True)
