@@ -31,14 +31,20 @@ def surface(tmp_path_factory):
 
 def test_psd_model_with_iaaft_through_simulate_check_and_fill(capsys, tmp_path, surface):
     model = tmp_path / "psd.json"
-    code, out, err = run(capsys, "fit", "ground", surface, "--model", "psd", "--marginal",
-                         "iaaft", "--l-filter", "none", "--out", model)
-    assert code == 0, err
-    record = json.loads(model.read_text())
+    record, out = _fit(capsys, surface, model, "--model", "psd", "--marginal", "iaaft",
+                       "--l-filter", "none")
     assert record["equation"] == "measured-psd" and record["marginal"]["method"] == "iaaft"
     assert "measured PSD" in out and "IAAFT" in out
     outside = _through_simulate_check_and_fill(capsys, tmp_path, model, surface)
     assert len(outside) <= 4, outside  # its own measurement: few outside
+
+
+def _fit(capsys, surface, model, *options):
+    """``fit ground surface *options --out model``: it succeeds; the model file's record and
+    what the command printed."""
+    code, out, err = run(capsys, "fit", "ground", surface, *options, "--out", model)
+    assert code == 0, err
+    return json.loads(model.read_text()), out
 
 
 def _through_simulate_check_and_fill(capsys, tmp_path, model, surface):
@@ -62,10 +68,8 @@ def _through_simulate_check_and_fill(capsys, tmp_path, model, surface):
 
 def test_sm_model_with_johnson_through_simulate_check_and_fill(capsys, tmp_path, surface):
     model = tmp_path / "sm.json"
-    code, out, err = run(capsys, "fit", "ground", surface, "--model", "sm", "--marginal",
-                         "johnson", "--l-filter", "none", "--out", model)
-    assert code == 0, err
-    record = json.loads(model.read_text())
+    record, out = _fit(capsys, surface, model, "--model", "sm", "--marginal", "johnson",
+                       "--l-filter", "none")
     assert record["equation"] == "sm2d" and set(record["marginal"]) == {"skewness", "kurtosis"}
     assert "2-D spectral mixture: Q = " in out
     outside = _through_simulate_check_and_fill(capsys, tmp_path, model, surface)
@@ -81,16 +85,13 @@ def test_sm_model_with_johnson_through_simulate_check_and_fill(capsys, tmp_path,
 
 def test_auto_prints_each_candidate_and_why(capsys, tmp_path, surface):
     model = tmp_path / "auto.json"
-    code, out, err = run(capsys, "fit", "ground", surface, "--model", "auto", "--blocks", "4",
-                         "--out", model)
-    assert code == 0, err
+    record, out = _fit(capsys, surface, model, "--model", "auto", "--blocks", "4")
     lines = [line.split() for line in out.splitlines()]
     scored = {w[0]: float(w[1]) for w in lines if w and w[0] in ("eq18", "matern", "sm",
                                                                   "psd")}
     assert set(scored) == {"eq18", "matern", "sm", "psd"} and all(v > 0 for v in
                                                                  scored.values())
     assert "chose " in out
-    record = json.loads(model.read_text())
     chosen = {"eq18": "eq18", "eq18-matern": "matern", "sm2d": "sm", "measured-psd": "psd"}[
         record["equation"]]
     assert f"chose {chosen}" in out and "chosen_by" in record["fit"]
@@ -98,10 +99,7 @@ def test_auto_prints_each_candidate_and_why(capsys, tmp_path, surface):
 
 
 def test_matern_rung_and_bad_combinations(capsys, tmp_path, surface):
-    code, out, err = run(capsys, "fit", "ground", surface, "--model", "matern", "--blocks",
-                         "4", "--out", tmp_path / "m.json")
-    assert code == 0, err
-    record = json.loads((tmp_path / "m.json").read_text())
+    record, _ = _fit(capsys, surface, tmp_path / "m.json", "--model", "matern", "--blocks", "4")
     assert record["equation"] == "eq18-matern" and record["hyperparameters"]["nu"] == 1.5
     code, _, err = run(capsys, "fit", "ground", surface, "--non-gaussian", "--marginal",
                        "iaaft")
