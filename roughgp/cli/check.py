@@ -164,6 +164,10 @@ def _calibrated(model, z, spacing, args, start):
             f"({time.perf_counter() - start:.0f} s)")
     err(f"then {args.calibrate} bootstrap copies of the measurement from the model, each "
         f"refitted and checked against {args.simulations} simulations of its refit ...")
+    if args.calibrate < 9:  # p <= 0.1 needs u (B + 1) <= 1 even beyond every copy
+        err(f"note: with {args.calibrate} copies even a measurement more extreme than all of "
+            f"them is called outside only with probability {(args.calibrate + 1) / 10:g} "
+            f"(--calibrate 9 or more removes that limit)")
     try:
         return calibrated_check(model, z, spacing, n_simulations=args.simulations,
                                 n_bootstrap=args.calibrate, seed=args.seed, progress=progress)

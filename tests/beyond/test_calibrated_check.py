@@ -85,3 +85,16 @@ def test_the_calibrated_check_keeps_the_plain_check_and_its_seed(fitted_case):
     record = json.loads(json.dumps(first.to_dict()))
     assert record["calibration"]["n_bootstrap"] == 2
     assert {p["name"] for p in record["parameters"]} == set(first.p_values)
+
+
+def test_a_copy_whose_refit_cannot_be_checked_is_named(fitted_case, monkeypatch):
+    """As on a real AFM crop (data/nid-1-crop.x3p, sm + Johnson): a refit whose simulation is
+    refused stops the check with the copy's number and the reason, not a bare library error."""
+    model, z = fitted_case
+
+    def refuse(*args, **kwargs):
+        raise ValueError("the pre-distorted ACVF is not positive definite on this grid")
+    monkeypatch.setattr(cc, "refit_like", refuse)
+    with pytest.raises(ValueError, match=r"bootstrap copy 1 of 2: its refitted model cannot be "
+                                         r"checked: the pre-distorted ACVF"):
+        cc.calibrated_check(model, z, n_simulations=3, n_bootstrap=2)

@@ -31,6 +31,7 @@ def test_check_calibrate_on_the_command_line(capsys, tmp_path, fitted_case):
     assert code == 0, err
     assert "p (cal.)" in text and "calibrated by 2 refitted bootstrap copies" in text
     assert "bootstrap copy 2/2" in err
+    assert "called outside only with probability 0.3" in err  # 2 copies: (2 + 1) / 10
     assert json.loads(out.read_text())["calibration"]["n_bootstrap"] == 2
     dataclasses.replace(model, stage="filtered").save(tmp_path / "f.json")
     code, _, err = _run(capsys, "check", tmp_path / "f.json", tmp_path / "m.npy",

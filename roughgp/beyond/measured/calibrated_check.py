@@ -243,9 +243,13 @@ def calibrated_check(model: FittedModel, z, spacing=None, *, n_simulations=19, n
     for b in range(n_bootstrap):
         copy = model.simulate(z.shape, seed=copies, spacing=spacing)
         copy = np.where(holes, np.nan, copy)
-        refit = refit_like(model, copy, spacing)
-        check = check_model(refit, copy, spacing, n_simulations=n_simulations,
-                            seed=int(copies.integers(2**31)), names=names)
+        try:
+            refit = refit_like(model, copy, spacing)
+            check = check_model(refit, copy, spacing, n_simulations=n_simulations,
+                                seed=int(copies.integers(2**31)), names=names)
+        except ValueError as error:  # a refit the fit or the simulation refuses: say which
+            raise ValueError(f"bootstrap copy {b + 1} of {n_bootstrap}: its refitted model "
+                             f"cannot be checked: {error}") from None
         for name, e in extremeness(check).items():
             values[name].append(e)
         refits.append(refit)
