@@ -22,6 +22,16 @@ checked against the fitted model with B refitted bootstrap copies, about 25-50 s
 
     OMP_NUM_THREADS=1 python benchmarks/model_check_calibration.py --bootstrap 19 --cases 50
     python benchmarks/model_check_calibration.py --bootstrap 19 --report
+
+``--recheck NAME ...`` counts the named parameters' ranks again on the recorded cases, after a
+change of how the check compares them (``roughgp.experiments.model_check.recheck``: the same
+measurements, fits and seeded draws, no refit), into ``--out``; ``--merge PART ...`` then puts
+those records in place of the recorded ones with the same index (Std, 2026-12-03, when the check
+began to frame directions by their pooled axial mean):
+
+    OMP_NUM_THREADS=1 python benchmarks/model_check_calibration.py --recheck Std --first 0 \
+        --cases 275 --out /tmp/std-0.jsonl
+    python benchmarks/model_check_calibration.py --merge /tmp/std-0.jsonl /tmp/std-1.jsonl
 """
 
 from __future__ import annotations
@@ -33,6 +43,7 @@ import sys
 import time
 from pathlib import Path
 
+from roughgp.beyond.measured.check import STD_FRAME
 from roughgp.experiments import bootstrap_calibration as bc
 from roughgp.experiments import check_calibration as cc
 from roughgp.experiments import model_check as mc
@@ -73,6 +84,49 @@ def run(args) -> None:
         print(f"case {index}: {record['case_seconds']:.1f} s; {said}", flush=True)
 
 
+def _read(path) -> list:
+    return [json.loads(line) for line in Path(path).read_text().splitlines() if line]
+
+
+def recheck(args) -> None:
+    """Count ``args.recheck``'s ranks again on the recorded cases ``first .. first + cases``."""
+    if not args.out:
+        raise SystemExit("--recheck needs --out (the recorded file is not written over)")
+    source = _default_path(args.size, "jsonl")
+    out = Path(args.out)
+    if out.resolve() == source.resolve():
+        raise SystemExit("--out must not be the recorded file itself; --merge puts it there")
+    done = {r["index"] for r in _read(out)} if out.exists() else set()
+    for record in _read(source):
+        if not args.first <= record["index"] < args.first + args.cases or \
+                record["index"] in done:
+            continue
+        start = time.perf_counter()
+        again = mc.recheck(record, args.recheck, seed=args.seed)
+        with out.open("a", encoding="utf-8") as stream:
+            stream.write(json.dumps(again) + "\n")
+        print(f"case {again['index']}: {time.perf_counter() - start:.1f} s; outside (fitted) "
+              f"{again['ranks_fitted']['outside']}", flush=True)
+
+
+def merge(args) -> None:
+    """Put the records of ``args.merge`` in place of the recorded ones with the same index."""
+    path = _default_path(args.size, "jsonl")
+    records = {r["index"]: r for r in _read(path)}
+    replaced = 0
+    for part in args.merge:
+        for r in _read(part):
+            if r["index"] not in records:
+                raise SystemExit(f"{part}: case {r['index']} is not in {path.name}")
+            records[r["index"]] = r
+            replaced += 1
+    text = "".join(json.dumps(records[i]) + "\n" for i in sorted(records))
+    tmp = path.with_suffix(".jsonl.tmp")
+    tmp.write_text(text, encoding="utf-8")
+    tmp.replace(path)
+    print(f"{replaced} of {len(records)} records replaced in {path}")
+
+
 def _markdown(cal) -> list:
     lines = ["| parameter | true: 0/1 % | true: RB % (95 %) | true: PIT p | true: 10 ± 3 %? "
              "| fitted: 0/1 % | fitted: RB % (95 %) | fitted: PIT p | fitted: 10 ± 3 %? |",
@@ -109,6 +163,12 @@ def _bootstrap_report(args, path, records) -> list:
             "calibrated check's 0/1 share; expected: its expectation over the tie-breaking "
             "draw; each with its 95 % interval; 10 ± 3 %?: yes when the expected share's "
             "interval lies within 7 to 13 %, no when wholly outside, else undecided."]
+    earlier = sum(r.get("std_frame") != STD_FRAME for r in records)
+    if earlier:
+        text.append(f"Std on {earlier} of the cases: recorded before the check framed "
+                    f"directions by the pooled axial mean (2026-12-03), centred on the measured "
+                    f"direction, which never says outside on an isotropic surface; not counted "
+                    f"again (each case is 19 refits).")
     subsets = [(f"The first {min(50, len(records))} cases", full.first(min(50, len(records))))]
     if len(records) > 50:
         subsets.append((f"All {len(records)} cases", full))
@@ -155,6 +215,13 @@ def report(args) -> None:
             f"For a calibrated check one parameter's share scatters by (1 sd) "
             f"{100 * full.binomial_sd():.1f} % (0/1) and {100 * full.rb_sd():.1f} % (RB) over "
             f"{len(records)} cases."]
+    rechecked = sorted({n for r in records for n in r.get("rechecked", [])})
+    if rechecked:
+        count = sum(bool(r.get("rechecked")) for r in records)
+        text.append(f"The ranks of {', '.join(rechecked)} were counted again on {count} of the "
+                    f"cases by `--recheck` (the same measurements, fits and seeded draws, the "
+                    f"check as it is now: Std framed by the pooled axial mean of the measured "
+                    f"and simulated directions since 2026-12-03).")
     subsets = [(f"The first {min(50, len(records))} cases", full.first(min(50, len(records))))]
     if len(records) > 50:
         subsets.append((f"All {len(records)} cases", full))
@@ -176,8 +243,19 @@ def main(argv=None) -> None:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--out", help="JSONL file to append to (default results/...)")
     parser.add_argument("--report", action="store_true", help="write the table from the records")
+    parser.add_argument("--recheck", nargs="+", metavar="NAME",
+                        help="count these parameters' ranks again on the recorded cases")
+    parser.add_argument("--merge", nargs="+", metavar="PART",
+                        help="put --recheck's records in place of the recorded ones")
     args = parser.parse_args(argv)
-    report(args) if args.report else run(args)
+    if args.report:
+        report(args)
+    elif args.recheck:
+        recheck(args)
+    elif args.merge:
+        merge(args)
+    else:
+        run(args)
 
 
 if __name__ == "__main__":

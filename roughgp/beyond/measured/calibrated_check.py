@@ -69,7 +69,8 @@ def extremeness(check: ModelCheck) -> dict:
     """``{parameter: min(simulations below, simulations above)}`` of a plain check, the finite
     simulations only (:func:`~roughgp.beyond.measured.check_ranks.rank_counts`; 0: outside
     their range; NaN where the measured value or every simulated one is not finite). Std's
-    simulations are unwrapped as the check unwraps them."""
+    simulations are framed as the check frames them
+    (:func:`~roughgp.beyond.measured.check.axial_frame`)."""
     out = {}
     for p in check.parameters:
         above, below, _, finite = rank_counts(p.measured, p.simulated)
