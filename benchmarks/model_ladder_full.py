@@ -11,6 +11,13 @@ minutes per map for the four eq 18 rungs; 128 x 128 about 2.
 
     OMP_NUM_THREADS=1 python benchmarks/model_ladder_full.py [--size 128] [--rungs eq18 ...]
     python benchmarks/model_ladder_full.py --size 128 --report   # the table from the records
+
+A rung run again (e.g. after a change of the check) goes to a part file, ``--out PART``, and
+``--merge PART ...`` puts its records in place of the recorded ones of the same file and rung:
+
+    OMP_NUM_THREADS=1 python benchmarks/model_ladder_full.py --size 128 --rungs sm-iaaft \
+        --out /tmp/sm.jsonl
+    python benchmarks/model_ladder_full.py --size 128 --merge /tmp/sm.jsonl
 """
 
 from __future__ import annotations
@@ -57,6 +64,30 @@ def write_report(command, seconds, size) -> None:
     print(report.read_text())
 
 
+def merge(parts, size) -> None:
+    """Put the records of ``parts`` in place of the recorded ones of the same file and rung."""
+    path = _paths(size)[0]
+    records = [json.loads(line) for line in path.read_text().splitlines() if line]
+    where = {(r["file"], r["rung"]): i for i, r in enumerate(records)}
+    replaced = 0
+    for part in parts:
+        for line in Path(part).read_text().splitlines():
+            if not line:
+                continue
+            r = json.loads(line)
+            key = (r["file"], r["rung"])
+            if key in where:
+                records[where[key]] = r
+                replaced += 1
+            else:
+                where[key] = len(records)
+                records.append(r)
+    tmp = path.with_suffix(".jsonl.tmp")
+    tmp.write_text("".join(json.dumps(r) + "\n" for r in records))
+    tmp.replace(path)
+    print(f"{replaced} records replaced, {len(records)} in {path}")
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rungs", nargs="*", default=list(ml.RUNGS), choices=list(ml.RUNGS))
@@ -64,22 +95,29 @@ def main(argv=None) -> None:
     parser.add_argument("--size", type=int, default=ml.crop_size(full=True),
                         help="the side of each map's central crop, points")
     parser.add_argument("--report", action="store_true", help="only write the report")
+    parser.add_argument("--out", help="a part file to append to instead of the records")
+    parser.add_argument("--merge", nargs="+", metavar="PART",
+                        help="put these part files' records in place of the recorded ones")
     args = parser.parse_args(argv)
     command = "python benchmarks/model_ladder_full.py " + " ".join(sys.argv[1:])
     if args.report:
         write_report(command, float("nan"), args.size)
         return
+    if args.merge:
+        merge(args.merge, args.size)
+        return
     RESULTS.mkdir(exist_ok=True)
     start = time.perf_counter()
 
     def keep(result):
-        with _paths(args.size)[0].open("a") as out:
+        with (Path(args.out) if args.out else _paths(args.size)[0]).open("a") as out:
             out.write(json.dumps(result.to_record()) + "\n")
         print(f"{result.file} {result.rung}: {result.n_outside} outside "
               f"{result.outside}, {result.fit_seconds:.0f} s fit", flush=True)
 
     ml.model_ladder(args.files, args.rungs, size=args.size, progress=keep)
-    write_report(command, time.perf_counter() - start, args.size)
+    if not args.out:
+        write_report(command, time.perf_counter() - start, args.size)
 
 
 if __name__ == "__main__":

@@ -17,10 +17,11 @@ to one map and asks two questions of the model:
   (put through the map's holes and F-operator as the map was): a parameter is *outside* when
   the measured value lies beyond all 19. For a model that describes the measurement this
   happens to a parameter with probability 2/20, less for the parameters the fit pins
-  (:mod:`roughgp.experiments.model_check` measured 9.4 % on average over 50 synthetic maps):
+  (:mod:`roughgp.experiments.model_check` measured 9.9 % on average over 550 synthetic maps):
   about 1.3 of 13 outside, and 2 or fewer with probability 0.88 were the 13 independent.
 * **Does it predict held-out points?** Before the fit, 2 % of the measured points (at most
-  2000) are held out in small discs (:func:`~roughgp.beyond.measured.self_check.held_out_points`);
+  :data:`~roughgp.beyond.measured.self_check.CHECK_POINTS`) are held out in small discs
+  (:func:`~roughgp.beyond.measured.self_check.held_out_points`);
   the model, fitted without them, predicts them by kriging with its kernel
   (:func:`~roughgp.beyond.measured.self_check.self_check_fill`). The score is the GP's RMSE
   there relative to linear interpolation's (below 1: the model's correlation helps) and the
