@@ -2,6 +2,7 @@
 markdown cell has a ``glue("key", ...)`` in a code cell of the same notebook, so the book build
 cannot meet an unknown key and text and computation cannot drift apart."""
 
+import ast
 import json
 import re
 from pathlib import Path
@@ -38,3 +39,27 @@ def test_notebooks_are_committed_without_outputs(path):
     for c in _cells(path):
         if c["cell_type"] == "code":
             assert c.get("outputs") == [] and c.get("execution_count") is None, path.name
+
+
+HIDDEN = {"remove-input", "remove-cell", "hide-input"}
+
+
+def _is_bookkeeping(statement) -> bool:
+    """An ``assert`` or a ``glue(...)`` call: what the reader need not see."""
+    if isinstance(statement, ast.Assert):
+        return True
+    return (isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Call)
+            and isinstance(statement.value.func, ast.Name) and statement.value.func.id == "glue")
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.name)
+def test_bookkeeping_stays_out_of_the_readers_way(path):
+    # a chapter's visible code cells hold no top-level glue call or assert: those go into a
+    # following cell tagged remove-input (asserts inside a loop that prints stay where they are)
+    shown = []
+    for i, c in enumerate(_cells(path)):
+        if c["cell_type"] != "code" or HIDDEN & set(c.get("metadata", {}).get("tags", [])):
+            continue
+        body = ast.parse("".join(c["source"])).body
+        shown += [f"cell {i}, line {s.lineno}" for s in body if _is_bookkeeping(s)]
+    assert not shown, f"glue or assert shown to the reader: {shown}"
