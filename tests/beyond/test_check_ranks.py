@@ -8,9 +8,9 @@ import itertools
 import numpy as np
 import pytest
 
-from roughgp.beyond.measured.check_ranks import (outside_probability, pit_pvalue, pit_values,
-                                                 rank_counts, share_interval, uniform_rank_sd,
-                                                 verdict_within)
+from roughgp.beyond.measured.check_ranks import (chance_within, outside_probability, pit_pvalue,
+                                                 pit_values, rank_counts, share_interval,
+                                                 uniform_rank_sd, verdict_within)
 
 
 @pytest.mark.parametrize("values, measured", [
@@ -103,3 +103,23 @@ def test_bad_counts_are_refused_with_the_parameter_named():
     with pytest.raises(ValueError, match="at least 2"):
         share_interval([0.1])
     assert rank_counts(np.nan, [1.0, 2.0]) == (0, 0, 0, 2)
+
+
+def test_chance_within_says_how_many_cases_the_target_needs():
+    one_50, all_50 = chance_within(50, n_trials=3000)
+    one_550, all_550 = chance_within(550, n_trials=600)
+    # 50 cases: the share scatters by 2.9 %, so +- 3 % holds for about two thirds of the
+    # parameters and almost never for all 13; 550 cases: the share scatters by 0.9 %
+    assert 0.6 < one_50 < 0.75 and all_50 < 0.02
+    assert one_550 > 0.99 and all_550 > 0.9
+    assert chance_within(50, n_trials=200, seed=3) == chance_within(50, n_trials=200, seed=3)
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    (dict(n_cases=0), "n_cases must be an integer >= 1"),
+    (dict(n_cases=50, n_parameters=2.5), "n_parameters must be an integer >= 1"),
+    (dict(n_cases=50, tolerance=0.0), r"tolerance must be in \(0, 1\)"),
+])
+def test_chance_within_refuses_bad_input(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        chance_within(**kwargs)
