@@ -76,3 +76,16 @@ def test_check_model_reports_the_measured_std_and_frames_the_simulated():
     assert pooled.max() - pooled.min() < 180.0
     assert std.outside == bool(std.measured < std.simulated.min()
                                or std.measured > std.simulated.max())
+
+
+def test_the_check_says_when_it_shows_a_direction_turned_by_a_half_turn():
+    # a lay across the fold at +-90 deg: some simulated directions come out near -90, the
+    # measured one near +90, and the check shows them turned, with a note saying so
+    model = FittedModel("eq18", {"variance_um2": 1.0, "lambda_a_um": 12.0, "lambda_b_um": 2.0,
+                                 "angle_deg": 90.0, "noise_variance_um2": 0.01}, (1.0, 1.0))
+    z = model.simulate((48, 48), seed=5)
+    check = check_model(model, z, n_simulations=19, seed=2, names=("Std",))
+    std = check.parameters[0]
+    turned = bool((np.abs(std.simulated) > 90.0).any())
+    assert turned == any("turned by 180 deg" in note for note in check.notes)
+    assert turned, std.simulated     # this seed does turn some (else the test tests nothing)

@@ -219,6 +219,11 @@ def check_model(model: FittedModel, z, spacing=None, *, n_simulations=19, seed=0
         value = measured[n]
         if n == "Std":
             sims = axial_frame(sims, value)
+            if (np.abs(sims[np.isfinite(sims)]) > 90.0).any():
+                notes.append("Std is a direction modulo 180 deg: the simulated directions are "
+                             "shown within 90 deg of the axial mean of all of them and the "
+                             "measured one (beyond +-90 deg: the same directions, turned by "
+                             "180 deg)")
         finite = sims[np.isfinite(sims)]
         rank = int(np.sum(finite < value))
         outside = bool(np.isfinite(value) and finite.size > 0
