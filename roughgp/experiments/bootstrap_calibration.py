@@ -101,15 +101,16 @@ class BootstrapCalibration:
         return rows
 
     def table(self):
-        """A pandas DataFrame, a row per parameter: the three shares (%) and the verdict."""
+        """A pandas DataFrame, a row per parameter: the three shares (%, to 0.1 %, each with its
+        95 % interval in parentheses) and the verdict; four columns, narrow enough for a page."""
         import pandas as pd
         rows = self.summary()
         data = {}
         for kind, label in (("plain", "plain check"), ("calibrated", "calibrated check"),
                             ("chance", "calibrated, expected")):
-            data[f"{label} (%)"] = [100 * r[kind] for r in rows]
-            data[f"{label}, 95 % (%)"] = [f"{100 * r[kind + '_low']:.1f} to "
-                                          f"{100 * r[kind + '_high']:.1f}" for r in rows]
+            data[f"{label}, % (95 %)"] = [
+                f"{100 * r[kind]:.1f} ({100 * r[kind + '_low']:.1f} to "
+                f"{100 * r[kind + '_high']:.1f})" for r in rows]
         data["10 ± 3 %?"] = [r["within"] for r in rows]
         return pd.DataFrame(data, index=pd.Index(self.names, name="parameter"))
 

@@ -19,13 +19,15 @@ from roughgp.beyond.measured.check_ranks import (outside_probability, pit_pvalue
                                                  verdict_within)
 from roughgp.beyond.measured.model import FittedModel
 
-__all__ = ["CASES", "MIN_CASES_FOR_VERDICT", "CheckRanks", "CalibrationCase", "Calibration",
-           "RECORDED", "load_calibration", "plot_intervals", "plot_shares"]
+__all__ = ["CASES", "MIN_CASES_FOR_VERDICT", "TABLE_FORMAT", "CheckRanks", "CalibrationCase",
+           "Calibration", "RECORDED", "load_calibration", "plot_intervals", "plot_shares"]
 
 #: the cases below which no verdict on 10 % +- 3 % is given: the per-case RB values are
 #: skewed (most near 0, a few near 1), and over a few cases their standard deviation, and so
 #: the normal interval, comes out far too small (4 cases gave "no" for a calibrated parameter)
 MIN_CASES_FOR_VERDICT = 50
+#: how :meth:`Calibration.styled_table` prints its columns
+TABLE_FORMAT = {"0/1 (%)": "{:.1f}", "RB (%)": "{:.1f}", "PIT p": "{:.2g}"}
 #: (variance um^2, lambda_a um, lambda_b um, angle deg, noise variance um^2) of the known models;
 #: lengths on a grid of spacing 1 um
 CASES = ((1.0, 8.0, 3.0, 30.0, 0.01), (2.0, 5.0, 5.0, 0.0, 0.05), (0.5, 12.0, 2.5, -60.0, 0.02),
@@ -270,11 +272,15 @@ class Calibration:
             out[name] = float(np.mean((u > 0.25) & (u < 0.75)))
         return out
 
-    def table(self):
+    def table(self, which=None):
         """A pandas DataFrame, a row per parameter, a column group per model ("true model",
         "fitted model"): the 0/1 share outside (%), the Rao-Blackwellised share (%) and its
-        95 % interval, the PIT p-value and whether the share is within 10 % +- 3 %."""
+        95 % interval, the PIT p-value and whether the share is within 10 % +- 3 %. With
+        ``which`` ("true" or "fitted"), that model's columns alone (narrow enough for a page)."""
         import pandas as pd
+        if which is not None:
+            self._ranks(which)                  # refuses anything but "true" and "fitted"
+            return self.table()[f"{which} model"]
         columns = {}
         for which in ("true", "fitted"):
             rows, group = self.summary(which), f"{which} model"
@@ -285,6 +291,12 @@ class Calibration:
             columns[(group, "PIT p")] = [r["pit_p"] for r in rows]
             columns[(group, "10 ± 3 %?")] = [r["within"] for r in rows]
         return pd.DataFrame(columns, index=pd.Index(self.names, name="parameter"))
+
+    def styled_table(self, which):
+        """:meth:`table` of one model (``which``: "true" or "fitted"), the shares to 0.1 % and
+        the PIT p-value to two digits, captioned with the model and the number of cases."""
+        return (self.table(which).style.format(TABLE_FORMAT)
+                .set_caption(f"against the {which} model, {len(self.cases)} cases"))
 
     def first(self, n_cases) -> "Calibration":
         """The calibration of the ``n_cases`` cases of lowest index (e.g. the issue's 50 of a

@@ -44,6 +44,12 @@ def test_calibrate_counts_the_parameters_outside_per_case():
     assert {("true model", "0/1 (%)"), ("fitted model", "RB (%)"), ("fitted model", "PIT p")} \
         <= set(table.columns)
     assert set(table[("fitted model", "10 ± 3 %?")]) == {"too few cases"}
+    fitted = result.table("fitted")
+    assert list(fitted.columns) == [c for g, c in table.columns if g == "fitted model"]
+    assert fitted.equals(table["fitted model"])
+    assert "against the true model, 2 cases" in result.styled_table("true").to_html()
+    with pytest.raises(ValueError, match="which must be 'true' or 'fitted'"):
+        result.table("both")
     rb = result.outside_probabilities("fitted")
     assert rb.shape == (2, len(result.names)) and ((rb >= 0) & (rb <= 1)).all()
 
@@ -160,6 +166,10 @@ def test_the_bootstrap_calibration_counts_shares_and_the_copies_yardstick():
     assert boot.outside_ranges()["Sq"] == (0.5, 0.25)
     assert boot.outside_ranges()["Sal"] == (0.0, 0.25)
     assert boot.seconds() == (1.0, 20.0)
+    table = boot.table()
+    assert list(table.columns) == ["plain check, % (95 %)", "calibrated check, % (95 %)",
+                                   "calibrated, expected, % (95 %)", "10 ± 3 %?"]
+    assert table.loc["Sq", "calibrated, expected, % (95 %)"].startswith("25.0 (")
     with pytest.raises(ValueError, match="settings differ"):
         BootstrapCalibration.from_records([records[0], {**records[1], "n_bootstrap": 9}])
     with pytest.raises(ValueError, match="occurs twice"):
