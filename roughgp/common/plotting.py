@@ -12,7 +12,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 __all__ = ["use_style", "STYLE", "PAGE_WIDTH_PX", "MIN_FONT_PT", "PAGE_TEXT_PT",
-           "font_sizes_on_page", "page_text_problems", "row_of_axes", "image", "compare_curves",
+           "font_sizes_on_page", "page_text_problems", "overlapping_tick_labels", "row_of_axes",
+           "image", "compare_curves",
            "acvf_figure", "surface_figure"]
 
 STYLE = str(files("roughgp.common") / "roughgp.mplstyle")
@@ -62,6 +63,23 @@ def page_text_problems(fig, min_pt=PAGE_TEXT_PT, page_width_px=PAGE_WIDTH_PX) ->
             problems.append(f"{words!r}: {size:.1f} pt on the page (< {min_pt:g})")
         if _UM.search(words):
             problems.append(f"{words!r}: lengths in µm, not um")
+    return problems
+
+
+def overlapping_tick_labels(fig) -> list[str]:
+    """Neighbouring tick labels on an axis of ``fig`` whose drawn boxes overlap (text the
+    reader cannot read), as ``"'a' and 'b'"``; an empty list when none do."""
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    problems = []
+    for ax in fig.axes:
+        if not ax.get_visible():
+            continue
+        for labels in (ax.get_xticklabels(), ax.get_yticklabels()):
+            boxes = [(t.get_text(), t.get_window_extent(renderer)) for t in labels
+                     if t.get_visible() and t.get_text()]
+            problems += [f"{a!r} and {b!r}" for (a, box_a), (b, box_b) in zip(boxes, boxes[1:])
+                         if box_a.overlaps(box_b)]
     return problems
 
 

@@ -79,6 +79,8 @@ class Rung:
     name: str
     label: str
     fit: object
+    #: the label in a figure's column or a table's header, its heights only where not Gaussian
+    short: str = ""
 
 
 def _eq18(**options):
@@ -112,14 +114,22 @@ SM_MARGINALS = PSD_MARGINALS
 #: The ladder, simplest first. eq 18 is the paper's row; the measured-PSD model
 #: (:mod:`roughgp.beyond.measured.psd_model`) with :data:`PSD_MARGINALS`.
 RUNGS = {rung.name: rung for rung in (
-    Rung("eq18", "eq 18, Gaussian (the paper)", _eq18()),
-    Rung("eq18-johnson", "eq 18, Johnson heights", _eq18(non_gaussian=True)),
-    Rung("matern-1.5", "Matérn ν = 1.5, Gaussian", _eq18(nu=1.5)),
-    Rung("matern-2.5", "Matérn ν = 2.5, Gaussian", _eq18(nu=2.5)),
-    *(Rung(f"sm-{m}", f"2-D spectral mixture, {_HEIGHTS.get(m, m)}", _sm(m))
+    Rung("eq18", "eq 18, Gaussian (the paper)", _eq18(), "eq 18\n(paper)"),
+    Rung("eq18-johnson", "eq 18, Johnson heights", _eq18(non_gaussian=True), "eq 18\nJohnson"),
+    Rung("matern-1.5", "Matérn ν = 1.5, Gaussian", _eq18(nu=1.5), "Matérn\nν = 1.5"),
+    Rung("matern-2.5", "Matérn ν = 2.5, Gaussian", _eq18(nu=2.5), "Matérn\nν = 2.5"),
+    *(Rung(f"sm-{m}", f"2-D spectral mixture, {_HEIGHTS.get(m, m)}", _sm(m),
+           "spectral\nmixture" + ("" if m == "gaussian" else f"\n{m.upper()}"))
       for m in SM_MARGINALS),
-    *(Rung(f"psd-{m}", f"measured PSD, {_HEIGHTS.get(m, m)}", _psd(m)) for m in PSD_MARGINALS),
+    *(Rung(f"psd-{m}", f"measured PSD, {_HEIGHTS.get(m, m)}", _psd(m),
+           "measured\nPSD" + ("" if m == "gaussian" else f"\n{m.upper()}"))
+      for m in PSD_MARGINALS),
 )}
+
+
+def _short(rung) -> str:
+    """A rung's short label (:attr:`Rung.short`), its own name for a rung not in :data:`RUNGS`."""
+    return RUNGS[rung].short if rung in RUNGS else rung
 
 
 #: the quick run's rungs: all but the Matérn ones (the slowest fits, and not the best on the
@@ -447,9 +457,8 @@ def verdict_lines(ladder: Ladder) -> list:
 def markdown_table(ladder: Ladder) -> str:
     """The ladder as a Markdown table: per file, the count outside under each rung (the best
     in bold), the parameters outside under the best and its held-out RMSE ratio."""
-    head = ["file", "instrument"] + [RUNGS[g].label if g in RUNGS else g
-                                     for g in ladder.rungs] + \
-        ["outside under the best", "held-out RMSE / linear (best)"]
+    head = ["file", "instrument"] + [_short(g).replace("\n", " ") for g in ladder.rungs] + \
+        ["outside (best)", "held-out RMSE / linear (best)"]
     rows = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for name in ladder.files:
         best = ladder.best(name)
@@ -486,9 +495,8 @@ def plot_ladder(ladder: Ladder, *, title=None):
                     color="white" if counts[i, j] > 8 else "black")
         j = ladder.rungs.index(ladder.best(ladder.files[i]).rung)
         ax.add_patch(Rectangle((j - 0.5, i - 0.5), 1, 1, fill=False, lw=2.5, color="tab:blue"))
-    labels = [(RUNGS[g].label if g in RUNGS else g).replace(", ", ",\n").replace(" (", "\n(")
-              for g in ladder.rungs]
-    ax.set_xticks(range(n_rungs), labels, fontsize=11)
+    ax.set_xticks(range(n_rungs), [_short(g) for g in ladder.rungs], fontsize=11)
+    ax.set_xlabel("model (Gaussian heights unless named)", fontsize=11)
     ax.set_yticks(range(n_files), list(ladder.files), fontsize=11)
     ax.tick_params(length=0)
     ax.grid(False)

@@ -90,3 +90,13 @@ def test_page_text_problems_says_no_to_small_shrunk_or_um_text_and_yes_to_the_ru
     um.axes[0].set_xlabel("x (um)")
     assert plotting.page_text_problems(um) == ["'x (um)': lengths in µm, not um"]
     plt.close("all")
+
+
+def test_overlapping_tick_labels_names_labels_that_run_into_each_other():
+    fig, ax = plt.subplots(figsize=(3, 2))
+    ax.set_xticks([0, 1, 2], ["a long label here", "another long label", "x"])
+    found = plotting.overlapping_tick_labels(fig)
+    assert found and "'a long label here' and 'another long label'" in found[0]
+    ax.set_xticks([0, 1, 2], ["a", "b", "c"])
+    assert plotting.overlapping_tick_labels(fig) == []
+    plt.close(fig)
