@@ -133,8 +133,9 @@ def _short(rung) -> str:
 
 
 #: the quick run's rungs: all but the Matérn ones (the slowest fits, and not the best on the
-#: quick maps; on smooth maps they are: the recorded run of every map) and the spectral
-#: mixture with Gaussian heights (its IAAFT rung is the one that can reproduce a lay's heights)
+#: quick maps; they reproduce two smoother maps of the recorded run of every map, where eq 18
+#: does not) and the spectral mixture with Gaussian heights (its IAAFT rung is the one that
+#: can reproduce a lay's heights)
 QUICK_RUNGS = tuple(name for name in RUNGS
                     if not name.startswith("matern") and name != "sm-gaussian")
 
