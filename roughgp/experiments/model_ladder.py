@@ -1,16 +1,13 @@
 r"""Which model reproduces which measurement: a ladder of models on the real maps of ``data/``
 (beyond the paper; the chapter "Which model reproduces which measurement").
 
-Each *rung* of :data:`RUNGS` is a way to fit a model to a measured surface: the paper's eq 18
-with Gaussian heights (eq 8), eq 18 with the measured skewness and kurtosis (the Johnson
-marginal, :mod:`roughgp.beyond.non_gaussian`), eq 18's rotated anisotropy with a smoother
-Matérn profile (:math:`\nu` = 1.5, 2.5), a 2-D spectral mixture (eq 21/22's family on a
-surface, :mod:`roughgp.beyond.measured.sm_model`: peaks for a lay or a period) with Gaussian
-or IAAFT heights, and the nonparametric stationary model of the map's
-own smoothed PSD (:mod:`roughgp.beyond.measured.psd_model`: what any stationary Gaussian model
-could do on the map) with Gaussian heights or the measured ones matched exactly (IAAFT,
-:mod:`roughgp.beyond.measured.iaaft`). :func:`run_rung` fits one rung
-to one map and asks two questions of the model:
+Each *rung* of :data:`RUNGS` fits a model to a measured surface: the paper's eq 18 with
+Gaussian heights (eq 8) or the measured skewness and kurtosis (Johnson,
+:mod:`roughgp.beyond.non_gaussian`), eq 18's anisotropy with a Matérn profile (:math:`\nu` =
+1.5, 2.5), a 2-D spectral mixture (eq 21/22's family, :mod:`roughgp.beyond.measured.sm_model`)
+and the map's own smoothed PSD (:mod:`roughgp.beyond.measured.psd_model`: what any stationary
+Gaussian model could do), each with Gaussian heights or the measured ones matched exactly
+(IAAFT, :mod:`roughgp.beyond.measured.iaaft`). :func:`run_rung` asks two questions of a rung:
 
 * **Does it reproduce the measurement?** :func:`~roughgp.beyond.measured.check.check_model`
   places the map's 13 ISO 25178-2 parameters among those of 19 seeded simulations of the model
@@ -19,15 +16,12 @@ to one map and asks two questions of the model:
   happens to a parameter with probability 2/20, less for the parameters the fit pins
   (:mod:`roughgp.experiments.model_check` measured 9.9 % on average over 550 synthetic maps):
   about 1.3 of 13 outside, and 2 or fewer with probability 0.88 were the 13 independent.
-* **Does it predict held-out points?** Before the fit, 2 % of the measured points (at most
-  :data:`~roughgp.beyond.measured.self_check.CHECK_POINTS`) are held out in small discs
-  (:func:`~roughgp.beyond.measured.self_check.held_out_points`);
-  the model, fitted without them, predicts them by kriging with its kernel
-  (:func:`~roughgp.beyond.measured.self_check.self_check_fill`). The score is the GP's RMSE
-  there relative to linear interpolation's (below 1: the model's correlation helps) and the
-  share inside :math:`\pm 2` predictive sd (about 95 % for a calibrated Gaussian predictive).
-  Kriging uses the kernel alone, so a rung with Johnson or IAAFT heights scores as its
-  Gaussian rung does.
+* **Does it predict held-out points?** 2 % of the measured points (at most
+  :data:`~roughgp.beyond.measured.self_check.CHECK_POINTS`, in small discs) are held out
+  before the fit and kriged with its kernel
+  (:func:`~roughgp.beyond.measured.self_check.self_check_fill`): the RMSE relative to linear
+  interpolation's (below 1: the correlation helps) and the share inside :math:`\pm 2`
+  predictive sd. Kriging uses the kernel alone: Johnson or IAAFT heights score as Gaussian.
 
 :func:`model_ladder` runs every rung on every file (each map cropped to its central
 :func:`crop_size` x :func:`crop_size` points, 128 quick, 256 at full size: the window is kept
@@ -104,9 +98,8 @@ def _sm(marginal):
 #: the height distributions' names in the rungs' labels
 _HEIGHTS = {"gaussian": "Gaussian", "johnson": "Johnson heights", "iaaft": "IAAFT heights"}
 
-#: the measured-PSD model's height distributions on the ladder: Gaussian, and the measured
-#: one matched exactly (IAAFT); its Johnson option is left out (it matches the skewness and
-#: kurtosis alone, where IAAFT matches the whole distribution), for the time of a check per map
+#: the measured-PSD model's height distributions on the ladder: Gaussian, and the measured one
+#: matched exactly (IAAFT); Johnson (skewness and kurtosis alone) left out, for the check's time
 PSD_MARGINALS = ("gaussian", "iaaft")
 #: the 2-D spectral mixture's height distributions on the ladder, as the PSD model's
 SM_MARGINALS = PSD_MARGINALS
@@ -132,10 +125,8 @@ def _short(rung) -> str:
     return RUNGS[rung].short if rung in RUNGS else rung
 
 
-#: the quick run's rungs: all but the Matérn ones (the slowest fits, and not the best on the
-#: quick maps; they reproduce two smoother maps of the recorded run of every map, where eq 18
-#: does not) and the spectral mixture with Gaussian heights (its IAAFT rung is the one that
-#: can reproduce a lay's heights)
+#: the quick run's rungs: all but the Matérn ones (the slowest fits, the best on none of the
+#: quick maps) and the spectral mixture with Gaussian heights (its IAAFT rung keeps the heights)
 QUICK_RUNGS = tuple(name for name in RUNGS
                     if not name.startswith("matern") and name != "sm-gaussian")
 
