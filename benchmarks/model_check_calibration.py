@@ -44,6 +44,7 @@ import time
 from pathlib import Path
 
 from roughgp.beyond.measured.check import STD_FRAME
+from roughgp.common.atomic import atomic_output
 from roughgp.experiments import bootstrap_calibration as bc
 from roughgp.experiments import check_calibration as cc
 from roughgp.experiments import model_check as mc
@@ -72,7 +73,7 @@ def run(args) -> None:
     out = Path(args.out) if args.out else _default_path(args.size, "jsonl", args.bootstrap)
     done = set()
     if out.exists():
-        done = {json.loads(line)["index"] for line in out.read_text().splitlines() if line}
+        done = {r["index"] for r in _read(out)}
     for index in range(args.first, args.first + args.cases):
         if index in done:
             continue
@@ -120,10 +121,9 @@ def merge(args) -> None:
                 raise SystemExit(f"{part}: case {r['index']} is not in {path.name}")
             records[r["index"]] = r
             replaced += 1
-    text = "".join(json.dumps(records[i]) + "\n" for i in sorted(records))
-    tmp = path.with_suffix(".jsonl.tmp")
-    tmp.write_text(text, encoding="utf-8")
-    tmp.replace(path)
+    with atomic_output(path) as partial:
+        partial.write_text("".join(json.dumps(records[i]) + "\n" for i in sorted(records)),
+                           encoding="utf-8")
     print(f"{replaced} of {len(records)} records replaced in {path}")
 
 
@@ -190,13 +190,13 @@ def _bootstrap_report(args, path, records) -> list:
 def report(args) -> None:
     path = _default_path(args.size, "jsonl", args.bootstrap)
     if args.bootstrap:
-        records = [json.loads(line) for line in path.read_text().splitlines() if line]
+        records = _read(path)
         text = _bootstrap_report(args, path, records)
         _default_path(args.size, "md", True).write_text("\n".join(text) + "\n",
                                                         encoding="utf-8")
         print("\n".join(text))
         return
-    records = [json.loads(line) for line in path.read_text().splitlines() if line]
+    records = _read(path)
     seconds = sum(r.get("case_seconds", 0.0) for r in records)
     full = cc.Calibration.from_records(records)
     text = [f"# The model check's calibration, {args.size} x {args.size}",

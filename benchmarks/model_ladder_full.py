@@ -30,6 +30,7 @@ import sys
 import time
 from pathlib import Path
 
+from roughgp.common.atomic import atomic_output
 from roughgp.experiments import model_ladder as ml
 from roughgp.experiments.real_maps import REAL_MAPS
 
@@ -82,9 +83,8 @@ def merge(parts, size) -> None:
             else:
                 where[key] = len(records)
                 records.append(r)
-    tmp = path.with_suffix(".jsonl.tmp")
-    tmp.write_text("".join(json.dumps(r) + "\n" for r in records))
-    tmp.replace(path)
+    with atomic_output(path) as partial:
+        partial.write_text("".join(json.dumps(r) + "\n" for r in records))
     print(f"{replaced} records replaced, {len(records)} in {path}")
 
 
