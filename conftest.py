@@ -7,6 +7,11 @@ book build reads (:mod:`booktools.notebook_cache`): the notebooks run once for b
 notebook whose cells, library, lock and data are unchanged since its last successful run is not
 run again (the progress line says "cached"). A fresh clone, as CI runs it, executes everything.
 
+A notebook that ran without error but reports a regressed claim (the chapter "Claims ledger"
+glues the list, hidden: :mod:`booktools.findings`) fails its item with the claims named, whether
+it was executed now or its run (with its stored outputs) came from the cache: the book shows the
+regression in red and builds every page, the tests fail on it.
+
 What this file adds to nbmake: the marker ``notebook`` on each notebook item (``pytest -m "not
 notebook"`` runs the unit tier alone), one BLAS thread per test process when several run, the
 notebooks first and the longest first (dealt to xdist's workers), and one progress line per
@@ -20,7 +25,7 @@ import time
 
 import pytest
 
-from booktools import notebook_cache
+from booktools import findings, notebook_cache
 
 # book/labs is a link to notebooks/ (so the book shows the labs): collect each lab once.
 collect_ignore = ["book/labs"]
@@ -55,8 +60,9 @@ _RUNS = {}  # notebook path -> notebook_cache.Executed, in this process
 def _run_nbmake_through_the_cache():
     """nbmake's ``NotebookRun.execute`` (nbmake 1.5.5, pinned) taken through
     :func:`booktools.notebook_cache.execute`: from the cache when unchanged, stored in it when
-    it passed. nbmake's item, its options (``--nbmake-timeout``, ``--nbmake-kernel``) and its
-    failure report are nbmake's own."""
+    it passed; then failed when it reports a regressed claim (:mod:`booktools.findings`).
+    nbmake's item, its options (``--nbmake-timeout``, ``--nbmake-kernel``)
+    and its failure report are nbmake's own."""
     from nbmake.nb_run import NotebookRun
 
     nbmake_execute = NotebookRun.execute
@@ -66,7 +72,7 @@ def _run_nbmake_through_the_cache():
     def execute(run):
         executed = notebook_cache.execute(run.filename, runner=lambda: nbmake_execute(run))
         _RUNS[str(executed.path)] = executed
-        return executed.result
+        return findings.fail_on_findings(executed.result, executed.path.name)
 
     execute.through_cache, execute.original = True, nbmake_execute
     NotebookRun.execute = execute

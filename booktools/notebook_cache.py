@@ -12,7 +12,14 @@ jupyter-cache keys a notebook by its code cells alone; the book's notebooks also
 library, the pinned environment, the data they read and the size switch. :func:`fingerprint`
 hashes those, and :func:`prepare` empties the cache when the fingerprint changed, so a change to
 ``roughgp/``, to ``requirements.lock``, to ``pyproject.toml``, to ``data/`` or to
-``ROUGHGP_FULL`` re-executes every chapter. A fresh clone has no cache: everything runs.
+``ROUGHGP_FULL`` re-executes every chapter. A fresh clone has no cache: everything runs. The
+ledger's test switches ``ROUGHGP_LEDGER_ONLY`` and ``ROUGHGP_LEDGER_FAULT`` (a run on a few
+claims, an injected regression) are part of the fingerprint when set, so such a run never
+stands in for the real one in the book.
+
+A notebook that ran without error is stored even when what it reports must fail the tests (a
+regressed claim: :mod:`booktools.findings`); :func:`execute` gives a cached run back with its
+stored outputs, so the tests read that report from the cached run as from a fresh one.
 
 Expensive experiment results that several notebooks compute (the careful fits of figure 7,
 the bullet land's fit and check) are shared through ``roughgp.common.results_cache``: the
@@ -47,6 +54,9 @@ KEY_FILE = "roughgp-fingerprint.txt"
 # What every chapter depends on besides its own cells (paths relative to the repository).
 DEPENDENCIES = ("roughgp", "data", "requirements.lock", "pyproject.toml")
 TIMEOUT = 900  # seconds per cell, as book/_config.yml's execute.timeout
+# Test switches of the claims ledger (roughgp.ledger.runner.ONLY_ENV and FAULT_ENV): part of the
+# fingerprint when set (not imported from there: that would load every check in each process).
+LEDGER_SWITCHES = ("ROUGHGP_LEDGER_ONLY", "ROUGHGP_LEDGER_FAULT")
 
 __all__ = ["CACHE", "Executed", "execute", "fingerprint", "prepare", "results_folder", "setup"]
 
@@ -58,7 +68,8 @@ def _files(root: Path):
 
 def fingerprint(root: Path = ROOT) -> str:
     """SHA-256 over what the notebooks depend on: the files of :data:`DEPENDENCIES` (names and
-    contents), the Python and torch versions, and the ``ROUGHGP_FULL`` switch."""
+    contents), the Python and torch versions, the ``ROUGHGP_FULL`` switch, and those of
+    :data:`LEDGER_SWITCHES` that are set (unset, the key is what it was before they existed)."""
     h = hashlib.sha256()
     update_with_files(h, _files(root), root)
     try:
@@ -67,6 +78,9 @@ def fingerprint(root: Path = ROOT) -> str:
     except Exception:  # noqa: BLE001 - not installed: part of the key as such
         torch = "none"
     h.update(f"python {platform.python_version()} torch {torch} full {full_size()}".encode())
+    for name in LEDGER_SWITCHES:
+        if os.environ.get(name, "").strip():
+            h.update(f"\0{name}={os.environ[name].strip()}".encode())
     return h.hexdigest()
 
 
@@ -77,7 +91,8 @@ def prepare(cache: Path = CACHE, root: Path = ROOT, log=print) -> Path:
     key = fingerprint(root)
     key_file = cache / KEY_FILE
     if cache.exists() and (not key_file.is_file() or key_file.read_text().strip() != key):
-        log(f"notebook cache: roughgp, the lock, the data or ROUGHGP_FULL changed; "
+        log(f"notebook cache: roughgp, the lock, the data, ROUGHGP_FULL or a ledger test "
+            f"switch changed; "
             f"every notebook runs again (emptied {cache})")
         shutil.rmtree(cache)
     cache.mkdir(parents=True, exist_ok=True)
@@ -143,7 +158,8 @@ def execute(path: str | Path, cache: Path = CACHE, timeout: int = TIMEOUT,
             runner=None) -> Executed:
     """Take ``path``'s outputs from the cache, or execute it with nbmake (in its own folder, as
     the book build does) and cache it if every cell ran, so that the book build (myst-nb's
-    cache mode) finds the result and executes nothing.
+    cache mode) finds the result and executes nothing. A cached run's ``result.nb`` is the
+    notebook with its stored outputs.
 
     ``runner``: a callable returning nbmake's ``NotebookResult`` for ``path`` (the test run
     passes nbmake's own, with its options); by default ``NotebookRun(path, timeout)``."""
@@ -157,9 +173,10 @@ def execute(path: str | Path, cache: Path = CACHE, timeout: int = TIMEOUT,
     store = get_cache(str(cache))
     notebook = nbformat.read(path, as_version=4)
     try:
-        record = store.match_cache_notebook(notebook)
+        pk, stored = store.merge_match_into_notebook(notebook)   # with the stored outputs
+        record = store.get_cache_record(pk)
         return Executed(path, True, float(record.data.get("execution_seconds") or 0.0),
-                        result=NotebookResult(nb=notebook, error=None))
+                        result=NotebookResult(nb=stored, error=None))
     except KeyError:
         pass
     if runner is None:

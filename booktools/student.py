@@ -32,7 +32,10 @@ a line of solution code. (sphinx-exercise's own ``hide_solutions`` drops
 only the opening directive of a gated solution: its content stays on the page, and the closing
 node stops the HTML writer; sphinx-exercise 1.2.1.) It takes the executed notebooks from the
 book's cache, so after ``make book`` (or ``make test``) it only renders; :func:`solutions_left`
-checks its pages.
+checks its pages. A regressed claim of the ledger does not stop it (the claims chapter shows it
+and runs to its end). When anything fails (the build, a solution left on a page, solution code
+in a file) :func:`main` removes what it wrote, and a failed build leaves neither the reference
+runs nor a half-built book: nothing is left to hand out by mistake.
 """
 
 from __future__ import annotations
@@ -184,25 +187,35 @@ def build_student_book(out: Path = OUT / "book", book: Path = BOOK) -> Path:
     After the build, each page source that holds solutions (``_sources/<page>.ipynb``, what the
     page's download button serves) is replaced by its student notebook, and the build's
     executed notebooks (``jupyter_execute``, the reference runs) and pickled doctrees are
-    deleted: the student build keeps only what is handed out."""
-    config = student_book_config(Path(out), book)
+    deleted: the student build keeps only what is handed out. They are deleted whatever
+    happens (in a ``finally``), and a build that fails leaves nothing of itself in ``out``
+    (its ``_build`` and ``_config.yml`` are removed: a half-built book is no hand-out)."""
+    out = Path(out)
+    config = student_book_config(out, book)
+    build = out / "_build"
     command = [str(Path(sys.executable).with_name("jupyter-book")), "build", "-W", "-n",
                "--keep-going", "--path-output", str(out), "--config", str(config), str(book)]
-    done = subprocess.run(command, capture_output=True, text=True, check=False)
-    if done.returncode != 0:
-        raise RuntimeError(f"the student book did not build ({done.returncode}):\n"
-                           f"{(done.stdout + done.stderr)[-4000:]}")
-    build = Path(out) / "_build"
-    html = build / "html"
-    # the served copies, mapped back to their sources (book/labs is a link: rglob of the book
-    # would not enter it)
-    for served in sorted((html / "_sources").rglob("*.ipynb")):
-        source = Path(book) / served.relative_to(html / "_sources")
-        if source.is_file() and "solution-start" in source.read_text():
-            nbformat.write(student_notebook(nbformat.read(source, as_version=4)), served)
-    for folder in ("jupyter_execute", ".doctrees"):
-        shutil.rmtree(build / folder, ignore_errors=True)
-    return html
+    built = False
+    try:
+        done = subprocess.run(command, capture_output=True, text=True, check=False)
+        if done.returncode != 0:
+            raise RuntimeError(f"the student book did not build ({done.returncode}):\n"
+                               f"{(done.stdout + done.stderr)[-4000:]}")
+        html = build / "html"
+        # the served copies, mapped back to their sources (book/labs is a link: rglob of the
+        # book would not enter it)
+        for served in sorted((html / "_sources").rglob("*.ipynb")):
+            source = Path(book) / served.relative_to(html / "_sources")
+            if source.is_file() and "solution-start" in source.read_text():
+                nbformat.write(student_notebook(nbformat.read(source, as_version=4)), served)
+        built = True
+        return html
+    finally:
+        for folder in ("jupyter_execute", ".doctrees"):
+            shutil.rmtree(build / folder, ignore_errors=True)
+        if not built:
+            shutil.rmtree(build, ignore_errors=True)
+            config.unlink(missing_ok=True)
 
 
 def solution_lines(nb) -> tuple[list[str], list[str]]:
@@ -326,6 +339,17 @@ def setup(app):
     return {"parallel_read_safe": True, "parallel_write_safe": True}
 
 
+def _discard(out: Path, written: list[Path]) -> None:
+    """Remove what a failed ``make student`` wrote into ``out`` (the student notebooks, the zip,
+    the student book), and ``out`` itself if that leaves it empty: no half hand-out."""
+    for path in [*written, out / "roughgp-labs-student.zip", out / "book" / "_config.yml"]:
+        path.unlink(missing_ok=True)
+    shutil.rmtree(out / "book" / "_build", ignore_errors=True)
+    for folder in (out / "book", out):
+        if folder.is_dir() and not any(folder.iterdir()):
+            folder.rmdir()
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m booktools.student",
                                      description="Write the labs without their solutions.")
@@ -333,7 +357,24 @@ def main(argv=None) -> int:
     parser.add_argument("--no-book", action="store_true",
                         help="write the notebooks and the zip only, not the student book")
     args = parser.parse_args(argv)
-    written = write_student_edition(out=args.out)
+    written, ok = [], False
+    try:
+        code = _write_and_check(args, written)
+        ok = code == 0
+        return code
+    finally:
+        if not ok:  # an error, a solution left or a leak: remove this run's hand-out
+            _discard(args.out, written)
+            print(f"error: nothing to hand out; removed what this run wrote in {args.out}",
+                  file=sys.stderr)
+
+
+def _write_and_check(args, written: list[Path]) -> int:
+    """:func:`main`'s work: write the notebooks (named in ``written`` before they are written,
+    so that a failure midway removes them too), the zip and the book, then scan them; returns
+    the exit code."""
+    written.extend(sorted(args.out / p.name for p in LABS.glob("lab*.ipynb")))
+    written[:] = write_student_edition(out=args.out)
     for path in written:
         print(f"wrote {path}")
     print(f"wrote {args.out / 'roughgp-labs-student.zip'}")

@@ -203,3 +203,37 @@ def test_no_file_of_the_student_build_holds_solution_code(tmp_path):
     assert "answer_value = GIVEN_NUMBER * 7 # the solution" in leaks[0]
     shown = (reference / "_build" / "html" / "labs" / "lab8.html").read_text()
     assert "SELF-CHECK-OUTPUT-42" in shown and "REFERENCE-ONLY-NOTE" in shown
+
+
+def test_a_failed_student_build_leaves_nothing_in_the_hand_out(tmp_path):
+    """A build that fails (here a broken reference, an error under -W) leaves neither the
+    reference runs (jupyter_execute, doctrees) nor a half-built book behind."""
+    book = _tiny_book(tmp_path / "book")
+    (book / "lab.md").write_text(_PAGE + "\nSee {doc}`no-such-page`.\n")
+    out = tmp_path / "student" / "book"
+    with pytest.raises(RuntimeError, match="did not build"):
+        student.build_student_book(out, book)
+    assert not (out / "_build").exists() and not (out / "_config.yml").exists()
+
+
+def test_make_student_removes_its_hand_out_when_it_fails(tmp_path, monkeypatch, capsys):
+    out = tmp_path / "student"
+    out.mkdir()
+    (out / "kept.txt").write_text("not written by make student")
+
+    def broken_build(folder):
+        (folder / "_build" / "jupyter_execute").mkdir(parents=True)
+        (folder / "_build" / "html").mkdir()
+        raise RuntimeError("the student book did not build")
+    monkeypatch.setattr(student, "build_student_book", broken_build)
+    with pytest.raises(RuntimeError):
+        student.main(["--out", str(out)])
+    assert sorted(p.name for p in out.iterdir()) == ["kept.txt"]
+    assert "nothing to hand out" in capsys.readouterr().err
+    # a leak found by the scan: exit 1, and nothing handed out either
+    monkeypatch.setattr(student, "solution_code_left", lambda folder: ["lab1.ipynb: x = 1"])
+    assert student.main(["--out", str(out), "--no-book"]) == 1
+    assert sorted(p.name for p in out.iterdir()) == ["kept.txt"]
+    (out / "kept.txt").unlink()
+    assert student.main(["--out", str(out), "--no-book"]) == 1
+    assert not out.exists(), "an output folder left empty is removed"
