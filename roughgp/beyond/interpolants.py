@@ -19,6 +19,8 @@ import scipy.interpolate
 import scipy.ndimage
 import scipy.spatial
 
+from roughgp.common.threads import single_blas_thread
+
 __all__ = ["INTERPOLANTS", "Baseline", "interpolate_baseline", "interpolate_holes"]
 
 INTERPOLANTS = ("nearest", "linear", "cubic")
@@ -72,6 +74,7 @@ def _neighbourhood(z, missing, window, margin):
     return outer, iy, ix, points, z[outer][use], whole
 
 
+@single_blas_thread
 def interpolate_baseline(z, missing, window, *, margin=12,
                          methods=INTERPOLANTS) -> Baseline:
     """Nearest, linear and cubic interpolation (what ``scipy.interpolate.griddata`` does, with

@@ -32,7 +32,11 @@ def persistent(function):
             return function(*args, **kwargs)
         import joblib
 
-        memory = joblib.Memory(location=folder, verbose=0)
+        from roughgp.common.numerics import start_jitter
+
+        jitter = start_jitter()   # a perturbed run's results are kept apart
+        location = folder if jitter == 0 else os.path.join(folder, f"start-jitter-{jitter}")
+        memory = joblib.Memory(location=location, verbose=0)
         return memory.cache(function)(*args, **kwargs)
 
     return cached

@@ -38,6 +38,7 @@ import scipy.optimize
 
 from roughgp.common.checks import as_generator, check_integer
 from roughgp.common.grid import centred_lags, normalize
+from roughgp.common.numerics import perturbed_start
 from roughgp.common.threads import one_blas_thread
 from roughgp.gp import acvf as _acvf
 from roughgp.models.surfaces import GrooveParameters
@@ -308,5 +309,8 @@ def _maximise(likelihood, u0, bounds, maxiter):
             return 1e300, np.zeros_like(grad)
         return -value, -grad
 
-    return scipy.optimize.minimize(objective, u0, jac=True, method="L-BFGS-B", bounds=bounds,
+    lows, highs = (np.array([np.nan if b is None else b for b in side], dtype=float)
+                   for side in zip(*bounds))
+    return scipy.optimize.minimize(objective, perturbed_start(u0, lows, highs), jac=True,
+                                   method="L-BFGS-B", bounds=bounds,
                                    options={"maxiter": int(maxiter)})

@@ -29,6 +29,7 @@ from scipy import optimize
 
 from roughgp.common.checks import as_generator, check_finite, check_integer
 from roughgp.common.device import resolve as resolve_device
+from roughgp.common.numerics import perturbed_start
 from roughgp.gp.toeplitz import (
     dense_log_likelihood_terms,
     toeplitz_log_likelihood,
@@ -445,7 +446,8 @@ def fit_spectral_mixture(x, z, num_mixtures, *, n_candidates=10, n_optimise=3, s
     starts = []
     for source, subseed, w, mu, var in _initialisations(zs, q, n_candidates, n_draws,
                                                          welch_segment, noise0, rng):
-        theta = np.clip(np.log(np.concatenate((w, mu, var, [noise0]))), lower, upper)
+        theta = perturbed_start(np.clip(np.log(np.concatenate((w, mu, var, [noise0]))),
+                                        lower, upper), lower, upper)
         starts.append((source, subseed, theta, log_ml(theta)))
 
     order = sorted(range(len(starts)), key=lambda k: -starts[k][3]

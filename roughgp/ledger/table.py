@@ -124,19 +124,19 @@ CLAIM_TABLE = [
          paper_value="figure 5", tolerance="dominant period within 1 % of the feed",
          verdict="reproduced with a different setup",
          why="a synthetic turned profile (f = 250 um, r = 800 um) replaces the measurement",
-         chapter="turned_profiles", check=check_periodicity),
+         chapter="turned_profiles", check=check_periodicity, search=True),
     dict(key="sec3.3-multimodal", where="Sec 3.3-3.4",
          statement="Fitting eq 21 is likely a multi-modal optimisation.",
          paper_value="", tolerance="at least two distinct optima",
          verdict="reproduced with a different setup", why="on the synthetic profile",
-         chapter="turned_profiles", check=check_multimodal),
+         chapter="turned_profiles", check=check_multimodal, search=True),
     dict(key="fig5-dales-hills", where="Sec 3.3, fig 5",
          statement="The simulations also model the wide dales and narrow hills of the data.",
          paper_value="figure 5", tolerance="data's Rsk inside the simulations' 95 % range",
          verdict="not reproducible as stated",
          why="a Gaussian process is symmetric under z -> -z: simulated Rsk scatters around 0, "
              "the data's lies outside",
-         chapter="turned_profiles", check=check_dales_hills),
+         chapter="turned_profiles", check=check_dales_hills, search=True),
     dict(key="fig7-flaw", where="Sec 3.4, fig 7",
          statement="The additive model (eq 22) falsely adds short wavelengths and loses "
                    "periodicity.",
@@ -144,14 +144,14 @@ CLAIM_TABLE = [
                                            "share > 2x the data's",
          verdict="reproduced with a different setup",
          why="a synthetic turned surface replaces the measurement",
-         chapter="turned_surfaces", check=check_flaw),
+         chapter="turned_surfaces", check=check_flaw, search=True),
     dict(key="fig7-cause", where="Sec 3.4",
          statement="These errors are mainly due to local optima of the fit.",
          paper_value="", tolerance="a better optimum (+10 log ML) removes the excess",
          verdict="not reproducible as stated",
          why="a better optimum reduces the short-wavelength excess but leaves a multiple of "
              "the data's: random depths and harmonic phases come from the Gaussian model",
-         chapter="turned_surfaces", check=check_flaw_cause),
+         chapter="turned_surfaces", check=check_flaw_cause, search=True),
     dict(key="conclusion-long-correlation", where="Conclusion; sec 3.1, eq 18",
          statement="GPs simulate long correlation lengths that are not possible with ARMA "
                    "processes or other digital filter methods.",
@@ -177,7 +177,7 @@ CLAIM_TABLE = [
          verdict="beyond the paper",
          why="the posterior chapter samples ground-patch and turned-profile posteriors; "
              "checked here on the conjugate white-noise case",
-         chapter="posterior", check=check_sampling),
+         chapter="posterior", check=check_sampling, search=True),
     dict(key="conclusion-non-gaussian", where="Conclusion",
          statement="Stationary GPs with Gaussian noise cannot describe surfaces with a strongly "
                    "non-Gaussian height distribution (left to future work).",
@@ -206,7 +206,7 @@ CLAIM_TABLE = [
          why="posterior mean and sd by conjugate gradients with FFT products (no dense "
              "matrix), with the simulation's hyperparameters and with hyperparameters fitted "
              "on the measured points alone (block composite likelihood)",
-         chapter="gap_filling", check=check_gap_filling),
+         chapter="gap_filling", check=check_gap_filling, search=True),
     dict(key="measured-land-lay", where="Sec 3.1, eq 18 on measured data (open files)",
          statement="Eq 18 fitted to a measured striated bullet land with holes finds the lay "
                    "along the striations.",
@@ -216,7 +216,7 @@ CLAIM_TABLE = [
          why="the paper's measurements are not public; x3ptools' sample-land.x3p (confocal, "
              "11 % missing), cylinder removed, L-filter 250 um, block composite likelihood on "
              "the measured points; the anisotropy is far weaker than figure 2's",
-         chapter="measured_surfaces", check=check_land_lay),
+         chapter="measured_surfaces", check=check_land_lay, search=True),
     dict(key="measured-land-check", where="Sec 3.1, conclusion; measured data",
          statement="A stationary Gaussian model (eq 8, 18) fitted to the land does not "
                    "reproduce its heavy-tailed heights, as the conclusion says it must not.",
@@ -227,7 +227,7 @@ CLAIM_TABLE = [
          why="ISO 25178-2 parameters of the measurement among simulations of the fitted model "
              "(roughgp check): the height parameters (Sq, Sku, Sp, Sv, Spk, Svk) lie outside; "
              "the direction agrees, the land is more anisotropic than the fit",
-         chapter="measured_surfaces", check=check_land_model),
+         chapter="measured_surfaces", check=check_land_model, search=True),
     dict(key="measured-fill", where="Conclusion, ref [48]; measured data",
          statement="On real measurements the GP fill of hidden measured points beats "
                    "interpolation with a calibrated 95 % band.",
@@ -242,7 +242,7 @@ CLAIM_TABLE = [
              "on sur-2.sur, whose RMSE a few defects set (its median error is no worse); the "
              "Gaussian +-2 sd band holds about 90 % on those two, the self-check's calibrated "
              "band 95 +- 3 % on all four",
-         chapter="measured_surfaces", check=check_measured_fill),
+         chapter="measured_surfaces", check=check_measured_fill, search=True),
     dict(key="scale-device", where="Beyond the paper (scale)",
          statement="Sampling, fitting and gap filling run on a GPU through torch (device=) "
                    "and give the CPU's numbers.",

@@ -38,7 +38,11 @@ class Claim:
     ``why``: the setup that differs, or why it is not reproducible or not checkable;
     ``chapter``: the book page that shows the check (a notebook's name without extension,
     or a page's file name such as ``"running.md"``);
-    ``check``: ``check(full) -> Check``, or None for ``not checkable``.
+    ``check``: ``check(full) -> Check``, or None for ``not checkable``;
+    ``search``: True when the check's value comes from an optimiser or a random search (a
+    multi-start fit, a Markov chain), whose result can move with the machine's rounding: such
+    claims are run under several numerical set-ups and must keep their verdict under every one
+    (:mod:`roughgp.ledger.setups`).
     """
 
     key: str
@@ -50,6 +54,7 @@ class Claim:
     why: str
     chapter: str
     check: Callable[[bool], Check] | None
+    search: bool = False
 
     def __post_init__(self):
         if self.verdict not in VERDICTS:

@@ -40,6 +40,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from roughgp.common.threads import single_blas_thread
+
 __all__ = ["BlockFactor", "factorise", "flops", "worthwhile"]
 
 #: A row of the recursion costs Python and LAPACK call overhead worth about this many flops.
@@ -80,6 +82,7 @@ class BlockFactor:
     def nbytes(self) -> int:
         return sum(a.nbytes for a in self.predictors) + sum(r.nbytes for r in self.roots)
 
+    @single_blas_thread
     def __matmul__(self, noise) -> np.ndarray:
         """``L @ noise`` for ``noise`` of shape ``(N, n_samples)``, row by row (so a draw is
         ``factor @ noise`` whether the factor is this or a dense array)."""
@@ -101,6 +104,7 @@ def _root(matrix):
         return None
 
 
+@single_blas_thread
 def factorise(table, shape) -> BlockFactor | None:
     """The :class:`BlockFactor` of the grid covariance of lag ``table`` (the ACVF on the
     ``(2 ny - 1, 2 nx - 1)`` lag grid, as :func:`roughgp.sampling.grid_covariance` gathers

@@ -34,6 +34,7 @@ from roughgp.common.checks import check_size
 from roughgp.common.device import resolve as resolve_device
 from roughgp.common.grid import centred_lags, normalize
 from roughgp.common.memory import host_free_bytes
+from roughgp.common.threads import blas_threads_for
 from roughgp.gp.numpy_kernels import is_additive
 from roughgp.sampling import block_levinson, circulant
 
@@ -195,8 +196,9 @@ def _cholesky_factor(covariance):
             try:
                 import scipy.linalg  # here: the block-Levinson route needs none of it
                 a = covariance + rel * scale * np.eye(len(covariance)) if rel else covariance
-                factor = scipy.linalg.cholesky(a, lower=True, check_finite=False,
-                                               overwrite_a=a is not covariance)
+                with blas_threads_for(len(a)):
+                    factor = scipy.linalg.cholesky(a, lower=True, check_finite=False,
+                                                   overwrite_a=a is not covariance)
             except np.linalg.LinAlgError:
                 continue
         if rel:

@@ -35,3 +35,28 @@ def test_the_size_decides_for_a_dense_factorisation():
     with blas_threads_for(SMALL_DENSE_ROWS + 1):
         assert _blas_threads() == before
     assert _blas_threads() == before
+
+
+def test_a_large_factorisation_gets_the_threads_back_inside_one_thread():
+    from roughgp.common.threads import SMALL_DENSE_ROWS, blas_threads_for, default_blas_threads
+
+    before = _blas_threads()
+    with one_blas_thread():
+        with blas_threads_for(SMALL_DENSE_ROWS + 1):
+            assert max(_blas_threads()) == default_blas_threads()
+        assert _blas_threads() == [1] * len(before)
+        with blas_threads_for(SMALL_DENSE_ROWS):
+            assert _blas_threads() == [1] * len(before)
+    assert _blas_threads() == before
+
+
+def test_single_blas_thread_decorates_a_function():
+    from roughgp.common.threads import single_blas_thread
+
+    @single_blas_thread
+    def threads_inside(x):
+        return x, _blas_threads()
+
+    before = _blas_threads()
+    assert threads_inside(3) == (3, [1] * len(before))
+    assert _blas_threads() == before

@@ -77,6 +77,7 @@ import scipy.optimize
 from roughgp.beyond.measured import psd_table
 from roughgp.beyond.measured.fit import described_data, form_removed_surface, marginal_of
 from roughgp.beyond.measured.model import FittedModel
+from roughgp.common.numerics import perturbed_start
 from roughgp.metrology.filters import Texture
 
 __all__ = ["MAX_COMPONENTS", "MAX_ORDINATES", "SmModelFit", "Mixture2D", "check_embeddable",
@@ -357,7 +358,8 @@ def whittle_fit(heights, spacing, max_components=MAX_COMPONENTS, max_ordinates=M
     for q in range(1, max_components + 1):
         start = _new_component(spec, current, variance)
         bounds = _bounds(spec, q, variance)
-        result = scipy.optimize.minimize(_loss, _clipped(_pack(start), bounds),
+        x0 = _clipped(perturbed_start(_clipped(_pack(start), bounds)), bounds)
+        result = scipy.optimize.minimize(_loss, x0,
                                          args=(spec, q, n), jac=True, method="L-BFGS-B",
                                          bounds=bounds, options={"maxiter": 400})
         current = _unpack(result.x, q)

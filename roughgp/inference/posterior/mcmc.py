@@ -14,6 +14,7 @@ from typing import Mapping
 import numpy as np
 
 from roughgp.common.checks import as_generator, check_integer, check_positive, check_size
+from roughgp.common.numerics import perturbed_start
 from roughgp.inference.posterior.priors import PosteriorModel, UniformAngle
 
 # ------------------------------------------------------------------ sampling
@@ -148,8 +149,8 @@ def sample_posterior(model: PosteriorModel, *, n_walkers=32, n_steps=2000, seed=
     if not (isinstance(min_tau_multiple, (int, float)) and min_tau_multiple >= 0):
         raise ValueError(f"min_tau_multiple must be >= 0, got {min_tau_multiple!r}")
     rng = as_generator(seed)
-    start = _initial_walkers(model, n_walkers, model.initial if initial is None else initial,
-                             rng)
+    start = perturbed_start(_initial_walkers(model, n_walkers,
+                                             model.initial if initial is None else initial, rng))
 
     sampler = emcee.EnsembleSampler(n_walkers, ndim, model.log_posterior)
     # emcee draws from its own RandomState (seeded from global entropy); seed it from ours.

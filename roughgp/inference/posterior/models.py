@@ -15,6 +15,7 @@ import numpy as np
 from roughgp.common.checks import check_positive
 from roughgp.common.device import resolve as resolve_device
 from roughgp.common.grid import normalize
+from roughgp.common.numerics import perturbed_start
 from roughgp.inference.posterior.likelihoods import (
     check_patch,
     grid_likelihood,
@@ -188,7 +189,7 @@ def maximum_a_posteriori(model: "PosteriorModel", initial: Mapping, *, maxiter=5
 
     if method not in OPTIMISERS:
         raise ValueError(f"method must be one of {OPTIMISERS}, got {method!r}")
-    u0 = model.to_unconstrained(initial)
+    u0 = perturbed_start(model.to_unconstrained(initial))
     if not math.isfinite(model.log_posterior(u0)):
         raise ValueError(f"initial has zero posterior density: {dict(initial)!r}")
     if method == "Nelder-Mead":
