@@ -10,10 +10,10 @@ r"""Draws of a latent surface on a regular grid, eq 10: :math:`\mathbf G \sim \m
 * ``"lanczos"``: the paper's approximation (LOVE, Pleiss et al. 2018): GPyTorch's
   ``root_decomposition(method="lanczos")`` with ``rank`` Lanczos iterations gives
   :math:`\mathbf R \approx \mathbf Q\mathbf T\mathbf Q^\top` of rank ``rank``; the draw is
-  :math:`\mathbf Q\mathbf T^{1/2}\boldsymbol\varepsilon`. A low rank loses variance (the kept
+  :math:`\mathbf Q\mathbf T^{1/2}\boldsymbol\varepsilon`; a low rank loses variance (the kept
   share of the trace is reported; GPyTorch's ``rsample()`` takes rank 100 once N > 800).
-* ``"circulant"``: exact in O(N log N) by circulant embedding (:mod:`roughgp.sampling.circulant`);
-  an additive kernel (eq 22) is drawn as two profiles and summed, exactly, in O(N).
+* ``"circulant"``: exact in O(N log N) by circulant embedding (:mod:`~roughgp.sampling.circulant`),
+  an additive kernel (eq 22) as two profiles summed, exactly, in O(N).
 * ``"auto"``: the cheapest exact method by a cost model (see :func:`choose_method`).
 """
 
@@ -42,15 +42,13 @@ __all__ = ["sample_grid", "grid_covariance", "covariance_index", "choose_method"
            "acvf_of", "METHODS"]
 
 METHODS = ("auto", "cholesky", "lanczos", "circulant")
-
 _LOG = logging.getLogger(__name__)
 _EMBEDDINGS: dict = {}  # the last few circulant embeddings, keyed by kernel state and grid
 _CACHE_SIZE = 8  # enough for the four kernels of a two-step honed surface (eq 20)
 _CACHE_BYTES = 2 * 2**30  # ... but older entries go once the cache holds more than this
 _FACTORS: dict = {}  # the last few dense Cholesky factors (and jitters), keyed by lag table
 _FACTOR_BYTES = 2**29  # older factors go once they hold more than this (512 MiB)
-_CHOICES: dict = {}  # choose_method's answers, keyed by lag table (a mirror image shares one)
-_CHOICES_SIZE = 32
+_CHOICES, _CHOICES_SIZE = {}, 32  # choose_method's answers by lag table (mirrors share one)
 #: The torus search of :func:`choose_method` may cost at most this share of the Cholesky
 #: factorisation it would replace (by the cost model): beyond it Cholesky is taken unsearched.
 SEARCH_SHARE = 0.25
