@@ -37,6 +37,13 @@ def add_parser(sub, formatter) -> None:
                    help="with --out DIR: report the run saved in DIR (the book's chapter "
                         "'Claims ledger' saves one in book/_build/ledger) if roughgp, its data "
                         "and the libraries are unchanged since; otherwise run the checks")
+    p.add_argument("--setups", action="store_true",
+                   help="also run the claims whose value comes from an optimiser or a random "
+                        "search ('search' in --list) under each numerical set-up of "
+                        "roughgp.ledger.setups (1 and 2 BLAS threads; optimiser starts as "
+                        "computed and moved by 1e-6 under two seeds), each in its own process, "
+                        "and exit 1 when a claim's verdict differs between them; with --out "
+                        "DIR also DIR/setups.md and DIR/setups.json")
     p.add_argument("--list", action="store_true", help="list the claims and exit")
     p.set_defaults(func=run)
 
@@ -49,7 +56,7 @@ def run(args) -> int:
     full = resolve_full(args.full)  # the one rule: --full / --quick, else ROUGHGP_FULL
     if args.list:
         for c in ledger.CLAIMS:
-            print(f"{c.key}  ({c.where}; {c.verdict})")
+            print(f"{c.key}  ({c.where}; {c.verdict}{'; search' if c.search else ''})")
             for line in wrap(c.statement, WIDTH - 4):
                 print(f"    {line}")
         return 0
@@ -98,8 +105,51 @@ def run(args) -> int:
             run_file = stored.save(outcomes, out, full=full)
             written = f"{out / 'ledger.md'}, {out / 'ledger.json'}, {run_file}"
         err(f"wrote {written} and the figures in {out / 'figures'}")
+    differing = _compare_setups(args, outcomes, reused, full, out) if args.setups else []
     if regressed:
         err(f"REGRESSED (the verdict must be revisited): {', '.join(regressed)}")
-        return 1
-    return 0
+    if differing:
+        err("VERDICTS THAT DEPEND ON THE NUMERICAL SET-UP (state the claim over what varies, "
+            "or make it land on one answer):\n  " + "\n  ".join(differing))
+    return 1 if regressed or differing else 0
+
+
+def _compare_setups(args, outcomes, reused, full, out) -> list[str]:
+    """``--setups``: the search claims of this run under every set-up of
+    :data:`roughgp.ledger.setups.SETUPS`, this run standing for the set-up it ran under (a
+    saved run's recorded one); prints the table, writes it with ``--out``; returns the
+    differences."""
+    import dataclasses
+    import json
+
+    from roughgp.ledger import setups, stored, to_records
+
+    keys = [o.claim.key for o in outcomes if o.claim.search]
+    if not keys:
+        err("--setups: none of the claims run depends on an optimiser or a random search")
+        return []
+    saved = stored.saved_setup(out) if reused else None
+    here = (setups.Setup(int(saved["blas_threads"]), int(saved["start_jitter"]))
+            if saved else None if reused else setups.Setup.of_this_process())
+    mine = [o for o in outcomes if o.claim.key in keys]
+    runs = setups.run_setups(keys, setups.SETUPS, full=full,
+                             reuse={here: mine} if here is not None else None, progress=err)
+    print("\nthe search claims under each numerical set-up:")
+    for run in runs:
+        print(f"  {run.setup.label}: " + ", ".join(
+            f"{o.claim.key} {o.status}" for o in run.outcomes)
+            + (" (this run)" if run.reused else f" ({run.seconds:.0f} s)"))
+    differing = setups.differences(runs)
+    print(f"{len(keys)} claim(s) under {len(runs)} set-ups: "
+          + ("the same verdict under every one" if not differing
+             else f"{len(differing)} verdict(s) differ"))
+    if out is not None:
+        out.mkdir(parents=True, exist_ok=True)
+        (out / "setups.md").write_text("# The search claims under each numerical set-up\n\n"
+                                       + setups.to_markdown(runs), encoding="utf-8")
+        (out / "setups.json").write_text(json.dumps(
+            [{"setup": dataclasses.asdict(r.setup), "reused": r.reused, "seconds": r.seconds,
+              "claims": to_records(r.outcomes)} for r in runs], indent=1), encoding="utf-8")
+        err(f"wrote {out / 'setups.md'} and {out / 'setups.json'}")
+    return differing
 

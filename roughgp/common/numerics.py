@@ -67,9 +67,9 @@ def perturbed_start(start, lower=None, upper=None) -> np.ndarray:
 
 
 def setup() -> dict:
-    """This process's numerical set-up: ``{"start_jitter": k, "blas_threads": n}`` (n: the
-    largest thread count of the BLAS libraries loaded now, as threadpoolctl reads it)."""
-    from threadpoolctl import threadpool_info
+    """This process's numerical set-up: ``{"start_jitter": k, "blas_threads": n}`` (n: the BLAS
+    libraries' own thread count, what a large factorisation runs on,
+    :func:`roughgp.common.threads.default_blas_threads`; small ones run on one thread)."""
+    from roughgp.common.threads import default_blas_threads
 
-    threads = [lib["num_threads"] for lib in threadpool_info() if lib["user_api"] == "blas"]
-    return {"start_jitter": start_jitter(), "blas_threads": max(threads, default=1)}
+    return {"start_jitter": start_jitter(), "blas_threads": default_blas_threads()}

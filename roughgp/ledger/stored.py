@@ -18,11 +18,12 @@ import time
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
+from roughgp.common import numerics
 from roughgp.common.digests import source_files, update_with_files
 from roughgp.ledger.runner import CLAIMS, claim, write
 from roughgp.ledger.types import Outcome
 
-__all__ = ["RUN_FILE", "fingerprint", "load", "save"]
+__all__ = ["RUN_FILE", "fingerprint", "load", "save", "saved_setup"]
 
 RUN_FILE = "run.json"
 _LIBRARIES = ("numpy", "scipy", "torch", "gpytorch", "emcee", "matplotlib", "SurfaceTopography")
@@ -55,7 +56,7 @@ def save(outcomes: list[Outcome], out_dir: str | Path, *, full: bool) -> Path:
     run = {"format": "roughgp-ledger-run", "version": 1,
            "created": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
            "full": bool(full), "keys": [o.claim.key for o in outcomes],
-           "fingerprint": fingerprint(full)}
+           "fingerprint": fingerprint(full), "setup": numerics.setup()}
     path = out_dir / RUN_FILE
     path.write_text(json.dumps(run, indent=1), encoding="utf-8")
     return path
@@ -89,3 +90,14 @@ def load(out_dir: str | Path, *, full: bool) -> tuple[list[Outcome] | None, str]
         outcomes.append(Outcome(claim(r["key"]), r["our_value"], r["status"] in ("ok", "not run"),
                                 float(r["seconds"]), figure, r.get("error")))
     return outcomes, f"the run of {run.get('created', '?')}"
+
+
+def saved_setup(out_dir: str | Path) -> dict | None:
+    """The numerical set-up (:func:`roughgp.common.numerics.setup`) of the run saved in
+    ``out_dir``, or None where the run or its record of the set-up is missing."""
+    try:
+        run = json.loads((Path(out_dir) / RUN_FILE).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    found = run.get("setup")
+    return found if isinstance(found, dict) else None

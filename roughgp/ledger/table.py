@@ -149,8 +149,10 @@ CLAIM_TABLE = [
          statement="These errors are mainly due to local optima of the fit.",
          paper_value="", tolerance="a better optimum (+10 log ML) removes the excess",
          verdict="not reproducible as stated",
-         why="a better optimum reduces the short-wavelength excess but leaves a multiple of "
-             "the data's: random depths and harmonic phases come from the Gaussian model",
+         why="a clearly better optimum leaves a multiple of the data's short-wavelength share: "
+             "random depths and harmonic phases come from the Gaussian model. Which optimum "
+             "the fit reaches moves with the machine's arithmetic, and whether it lowers the "
+             "excess moves with it (chapter turned_surfaces, over 8 numerical set-ups)",
          chapter="turned_surfaces", check=check_flaw_cause, search=True),
     dict(key="conclusion-long-correlation", where="Conclusion; sec 3.1, eq 18",
          statement="GPs simulate long correlation lengths that are not possible with ARMA "

@@ -76,3 +76,45 @@ def test_reproduce_reuse_runs_when_the_saved_run_is_stale(capsys, tmp_path, monk
 def test_reuse_needs_out(capsys):
     assert main(["reproduce", "--reuse"]) == 2
     assert "--reuse needs --out" in capsys.readouterr().err
+
+
+def test_a_saved_run_records_its_numerical_setup(tmp_path, monkeypatch):
+    monkeypatch.setenv("ROUGHGP_START_JITTER", "5")
+    stored.save(_outcomes(), tmp_path, full=False)
+    setup = stored.saved_setup(tmp_path)
+    assert setup["start_jitter"] == 5 and setup["blas_threads"] >= 1
+    assert stored.saved_setup(tmp_path / "nowhere") is None
+
+
+def test_reproduce_setups_fails_on_a_verdict_that_moves_with_the_setup(capsys, tmp_path,
+                                                                       monkeypatch):
+    """--setups reuses the saved run for the set-up it recorded, runs the others (faked here)
+    and exits 1 naming the claim whose verdict differs; it writes the table beside the run."""
+    from roughgp.ledger import setups
+
+    monkeypatch.setenv("ROUGHGP_START_JITTER", "0")
+    stored.save(_outcomes(), tmp_path, full=False)
+    here = setups.Setup(**stored.saved_setup(tmp_path))
+    seen = {}
+
+    def fake_run_setups(keys, all_setups, *, full, reuse, progress):
+        seen.update(keys=keys, reuse=reuse)
+        runs = []
+        for s in all_setups:
+            if s in reuse:
+                runs.append(setups.SetupRun(s, reuse[s], 1.0, reused=True))
+            else:
+                flip = s.start_jitter == 2
+                runs.append(setups.SetupRun(s, [ledger.Outcome(ledger.claim(k), "moved",
+                                                               not (flip and k == "fig7-cause"),
+                                                               0.1) for k in keys], 2.0))
+        return runs
+
+    monkeypatch.setattr(setups, "run_setups", fake_run_setups)
+    code = main(["reproduce", "--out", str(tmp_path), "--reuse", "--setups"])
+    out, err = capsys.readouterr()
+    assert code == 1 and "DEPEND ON THE NUMERICAL SET-UP" in err and "fig7-cause:" in err
+    assert seen["keys"] == setups.search_keys() and list(seen["reuse"]) == [here]
+    assert "1 verdict(s) differ" in out
+    assert "REGRESSED: moved" in (tmp_path / "setups.md").read_text()
+    assert len(json.loads((tmp_path / "setups.json").read_text())) == len(setups.SETUPS)
