@@ -14,8 +14,9 @@ hashes those, and :func:`prepare` empties the cache when the fingerprint changed
 ``roughgp/``, to ``requirements.lock``, to ``pyproject.toml``, to ``data/`` or to
 ``ROUGHGP_FULL`` re-executes every chapter. A fresh clone has no cache: everything runs. The
 ledger's test switches ``ROUGHGP_LEDGER_ONLY`` and ``ROUGHGP_LEDGER_FAULT`` (a run on a few
-claims, an injected regression) are part of the fingerprint when set, so such a run never
-stands in for the real one in the book.
+claims, an injected regression) and the start jitter ``ROUGHGP_START_JITTER`` (a perturbed
+numerical set-up) are part of the fingerprint when set, so such a run never stands in for the
+real one in the book.
 
 A notebook that ran without error is stored even when what it reports must fail the tests (a
 regressed claim: :mod:`booktools.findings`); :func:`execute` gives a cached run back with its
@@ -54,9 +55,10 @@ KEY_FILE = "roughgp-fingerprint.txt"
 # What every chapter depends on besides its own cells (paths relative to the repository).
 DEPENDENCIES = ("roughgp", "data", "requirements.lock", "pyproject.toml")
 TIMEOUT = 900  # seconds per cell, as book/_config.yml's execute.timeout
-# Test switches of the claims ledger (roughgp.ledger.runner.ONLY_ENV and FAULT_ENV): part of the
-# fingerprint when set (not imported from there: that would load every check in each process).
-LEDGER_SWITCHES = ("ROUGHGP_LEDGER_ONLY", "ROUGHGP_LEDGER_FAULT")
+# Test switches of the claims ledger (roughgp.ledger.runner.ONLY_ENV and FAULT_ENV) and the start
+# jitter of a perturbed numerical set-up (roughgp.common.numerics.ENV): part of the fingerprint
+# when set (not imported from there: that would load every check in each process).
+LEDGER_SWITCHES = ("ROUGHGP_LEDGER_ONLY", "ROUGHGP_LEDGER_FAULT", "ROUGHGP_START_JITTER")
 
 __all__ = ["CACHE", "Executed", "execute", "fingerprint", "prepare", "results_folder", "setup"]
 

@@ -70,7 +70,8 @@ def test_a_regression_fails_again_when_its_run_comes_from_the_cache(tmp_path):
 
 
 def test_the_ledger_switches_are_part_of_the_cache_key_when_set(monkeypatch, tmp_path):
-    """A run on a few claims, or with a fault injected, never stands in for the real one."""
+    """A run on a few claims, with a fault injected or under jittered starts, never stands in
+    for the real one."""
     (tmp_path / "roughgp").mkdir()
     (tmp_path / "roughgp" / "a.py").write_text("x = 1\n")
     for name in notebook_cache.LEDGER_SWITCHES:
@@ -82,6 +83,7 @@ def test_the_ledger_switches_are_part_of_the_cache_key_when_set(monkeypatch, tmp
     for name in notebook_cache.LEDGER_SWITCHES:
         monkeypatch.setenv(name, "eq5-duality")
         keys.add(notebook_cache.fingerprint(tmp_path))
-    assert len(keys) == 3
+    assert len(keys) == 4
+    from roughgp.common.numerics import ENV as JITTER_ENV
     from roughgp.ledger.runner import FAULT_ENV, ONLY_ENV
-    assert set(notebook_cache.LEDGER_SWITCHES) == {FAULT_ENV, ONLY_ENV}
+    assert set(notebook_cache.LEDGER_SWITCHES) == {FAULT_ENV, ONLY_ENV, JITTER_ENV}
