@@ -41,7 +41,7 @@ def add_parser(sub, formatter) -> None:
                    help="also run the claims whose value comes from an optimiser or a random "
                         "search ('search' in --list) under each numerical set-up of "
                         "roughgp.ledger.setups (1 and 2 BLAS threads; optimiser starts as "
-                        "computed and moved by 1e-6 under two seeds), each in its own process, "
+                        "computed and moved by 1e-6), each in its own process, "
                         "and exit 1 when a claim's verdict differs between them; with --out "
                         "DIR also DIR/setups.md and DIR/setups.json")
     p.add_argument("--list", action="store_true", help="list the claims and exit")

@@ -104,7 +104,7 @@ def test_reproduce_setups_fails_on_a_verdict_that_moves_with_the_setup(capsys, t
             if s in reuse:
                 runs.append(setups.SetupRun(s, reuse[s], 1.0, reused=True))
             else:
-                flip = s.start_jitter == 2
+                flip = s.start_jitter == 1
                 runs.append(setups.SetupRun(s, [ledger.Outcome(ledger.claim(k), "moved",
                                                                not (flip and k == "fig7-cause"),
                                                                0.1) for k in keys], 2.0))
