@@ -7,9 +7,9 @@ from __future__ import annotations
 import argparse
 
 from roughgp.cli import check, fill, fit, reproduce, simulate, texture
-from roughgp.cli.options import bounds_text
+from roughgp.cli.bounds import bounds_text
 from roughgp.cli.output import WIDTH
-from roughgp.metrology.measurement import READ_FORMATS
+from roughgp.io.measurement import READ_FORMATS
 
 __all__ = ['build_parser']
 

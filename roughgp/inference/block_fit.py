@@ -1,6 +1,6 @@
 r"""Fit eq 18 plus noise to the valid points of a height map with holes (beyond the paper).
 
-:func:`roughgp.beyond.gap_filling.fill_gaps` needs the kernel and the noise variance; a measurement
+:func:`roughgp.filling.global_fill.fill_gaps` needs the kernel and the noise variance; a measurement
 with unmeasured points comes without them. :func:`fit_ground_to_valid_points` estimates
 :math:`\sigma_k^2, \lambda_a, \lambda_b, \phi` (eq 18) and :math:`\sigma^2` (eq 8) from the
 measured points alone by **maximum block composite likelihood**: the grid is cut into
@@ -73,7 +73,7 @@ class BlockFit:
 
     @property
     def kernel(self):
-        """The fitted kernel, for :func:`roughgp.beyond.gap_filling.fill_gaps`: eq 18's
+        """The fitted kernel, for :func:`roughgp.filling.global_fill.fill_gaps`: eq 18's
         ``RotatedExponentialKernel`` (``nu = 0.5``) or the function of lags of
         :func:`roughgp.gp.acvf.rotated_matern`."""
         if self.nu == 0.5:

@@ -10,10 +10,10 @@ import types
 import numpy as np
 import pytest
 
-from roughgp.beyond.measured.check import SURFACE_PARAMETERS
-from roughgp.beyond.measured.model import FittedModel
+from roughgp.checking.model_check import SURFACE_PARAMETERS
 from roughgp.common import plotting
 from roughgp.experiments import model_ladder as ml
+from roughgp.surface_models.model import FittedModel
 
 SHAPE = (64, 64)
 TRUTH = FittedModel("eq18", {"variance_um2": 1.0, "lambda_a_um": 6.0, "lambda_b_um": 3.0,
