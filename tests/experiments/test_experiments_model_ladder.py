@@ -114,6 +114,8 @@ def test_best_rung_and_share(tmp_path):
     sizes = plotting.font_sizes_on_page(fig)
     assert min(v for v in sizes.values() if v is not None) >= plotting.MIN_FONT_PT
     assert not plotting.overlapping_tick_labels(fig)
+    import matplotlib.pyplot as plt
+    plt.close(fig)  # a figure left open would be counted by a later test (tests/ledger)
     # the records: written, read back, the same verdicts
     path = tmp_path / "records.jsonl"
     path.write_text("".join(json.dumps(r.to_record()) + "\n" for r in results))
