@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from roughgp.common.checks import check_integer, check_nonnegative
+from roughgp.common.checks import boolean_map, check_integer, check_nonnegative
 from roughgp.common.grid import normalize
 from roughgp.common.threads import one_blas_thread
 from roughgp.filling.global_fill import missing_map
@@ -106,10 +106,7 @@ def fill_gaps_locally(z, kernel, *, noise_variance, spacing=1.0, mask=None, tile
     observed = ~missing
     targets_map = missing
     if predict is not None:
-        predict = np.asarray(predict)
-        if predict.dtype != bool or predict.shape != shape:
-            raise ValueError(f"predict must be a boolean array of the shape of z {shape}, got "
-                             f"{predict.dtype} of shape {predict.shape}")
+        predict = boolean_map(predict, shape, "predict")
         targets_map = missing & predict
     offset = float(np.mean(z[observed]))
     centred = np.where(observed, z - offset, 0.0)

@@ -34,6 +34,7 @@ import dataclasses
 
 import numpy as np
 
+from roughgp.common.checks import boolean_map, surface_array
 from roughgp.common.grid import normalize
 from roughgp.filling.global_fill import GapFill, fill_gaps
 from roughgp.filling.local_fill import LocalFill, fill_gaps_locally
@@ -140,15 +141,10 @@ def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, 
             ``"global"`` (module docstring).
         device: ``"global"`` only: None (numpy) or a torch device (:mod:`roughgp.common.device`).
     """
-    z = np.asarray(z, dtype=np.float64)
-    if z.ndim != 2:
-        raise ValueError(f"z must be a surface z[iy, ix], got shape {z.shape}")
+    z = surface_array(z)
     missing = np.isnan(z)
     if mask is not None:
-        mask = np.asarray(mask)
-        if mask.dtype != bool or mask.shape != z.shape:
-            raise ValueError(f"mask must be a boolean array of the shape of z {z.shape}, got "
-                             f"{mask.dtype} of shape {mask.shape}")
+        mask = boolean_map(mask, z.shape)
         missing = missing | mask
     if not missing.any():
         raise ValueError("z has no missing (NaN) point: nothing to fill")

@@ -105,7 +105,7 @@ import scipy.linalg
 import scipy.ndimage
 from scipy.stats import norm
 
-from roughgp.common.checks import check_integer, check_positive
+from roughgp.common.checks import check_integer, check_positive, surface_array
 from roughgp.common.grid import normalize
 from roughgp.common.threads import one_blas_thread
 from roughgp.filling.local_fill import lag_table
@@ -201,9 +201,7 @@ def loo_scores(residual, kernel, *, noise_variance, spacing=1.0, excluded=None, 
     """The standardised leave-one-out residual of every measured point of ``residual`` (module
     docstring), from the measured points of its window that are not ``excluded``; an excluded
     point is scored against its prediction from the others. NaN where unmeasured."""
-    z = np.asarray(residual, dtype=np.float64)
-    if z.ndim != 2:
-        raise ValueError(f"residual must be a surface z[iy, ix], got shape {z.shape}")
+    z = surface_array(residual, "residual")
     tile = check_integer("tile", tile, 1)
     margin = check_integer("margin", margin, 1)
     shape, sp = normalize(z.shape, spacing)
@@ -298,9 +296,7 @@ def detect_spurious(z, *, spacing=1.0, form="plane", degree=2, axis="auto",
             (module docstring); False: the fitted one, however small.
     """
     start = time.perf_counter()
-    z = np.asarray(z, dtype=np.float64)
-    if z.ndim != 2:
-        raise ValueError(f"z must be a surface z[iy, ix], got shape {z.shape}")
+    z = surface_array(z)
     check_positive("threshold", threshold)
     rounds = check_integer("rounds", rounds, 1)
     if not isinstance(floor, (bool, np.bool_)):

@@ -36,7 +36,7 @@ import numpy as np
 import scipy.linalg
 import scipy.optimize
 
-from roughgp.common.checks import as_generator, check_integer
+from roughgp.common.checks import as_generator, boolean_map, check_integer
 from roughgp.common.grid import centred_lags, normalize
 from roughgp.common.numerics import perturbed_start
 from roughgp.common.threads import one_blas_thread
@@ -234,10 +234,7 @@ def fit_ground_to_valid_points(z, *, spacing=1.0, mask=None, block=24, n_blocks=
         raise ValueError("z must not hold inf; mark unmeasured points with NaN or in mask")
     valid = ~np.isnan(z)
     if mask is not None:
-        mask = np.asarray(mask)
-        if mask.dtype != bool or mask.shape != z.shape:
-            raise ValueError(f"mask must be a boolean array of the shape of z {z.shape}, got "
-                             f"{mask.dtype} of shape {mask.shape}")
+        mask = boolean_map(mask, z.shape)
         valid &= ~mask
     block = check_integer("block", block, 4)
     if block > min(z.shape):

@@ -28,6 +28,7 @@ import zlib
 
 import numpy as np
 
+from roughgp.common.checks import profile_or_surface
 from roughgp.common.dates import creation_date
 from roughgp.common.grid import normalize
 from roughgp.io.readers import MAX_POINTS, MalformedFileError
@@ -272,12 +273,7 @@ def write_x3p(path, z, spacing, *, comment=None, creator=None, offset=None, date
             non-finite ``offset``.
     """
     x3pio = _x3pio()
-    arr = np.asarray(z, dtype=np.float64)
-    if arr.ndim not in (1, 2) or arr.size == 0:
-        raise ValueError(f"z must be a non-empty profile z[ix] or surface z[iy, ix], "
-                         f"got shape {arr.shape}")
-    if np.any(np.isinf(arr)):
-        raise ValueError("z must not hold infinite values (NaN marks a missing point)")
+    arr = profile_or_surface(z)
     _, spacing = normalize(arr.shape, spacing)
     from roughgp import __version__
     metadata = x3pio.Metadata.for_software("roughgp", __version__, date=creation_date(date))

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from roughgp.common.checks import surface_array
 from roughgp.common.grid import normalize
 from roughgp.metrology.filters import Texture, surface_texture
 from roughgp.surface_models.model import FittedModel
@@ -106,9 +107,7 @@ def form_removed_surface(z, spacing, form, s, l, degree, axis, marginal, *, name
     otherwise), then :func:`measured_chain` of stage ``"form-removed"``."""
     if marginal not in MARGINALS:
         raise ValueError(f"marginal must be one of {list(MARGINALS)}, got {marginal!r}")
-    arr = np.asarray(z, dtype=np.float64)
-    if arr.ndim != 2:
-        raise ValueError(f"z must be a surface z[iy, ix], got shape {arr.shape}")
+    arr = surface_array(z)
     if min(arr.shape) < min_side:
         raise ValueError(f"the {name} model needs a surface of at least {min_side} x "
                          f"{min_side} points, got {arr.shape}")

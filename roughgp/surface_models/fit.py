@@ -45,6 +45,7 @@ import warnings
 
 import numpy as np
 
+from roughgp.common.checks import surface_array
 from roughgp.common.grid import normalize
 from roughgp.inference.block_fit import BlockFit, fit_ground_to_valid_points
 from roughgp.inference.fitting import MIN_POINTS, SpectralMixtureFit, fit_spectral_mixture
@@ -115,9 +116,7 @@ def fit_surface_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2,
             simulations go through S and L as the measurement did) or ``"filtered"`` (fitted
             to the heights after S and L; module docstring).
     """
-    arr = np.asarray(z, dtype=np.float64)
-    if arr.ndim != 2:
-        raise ValueError(f"z must be a surface z[iy, ix], got shape {arr.shape}")
+    arr = surface_array(z)
     _, (dy, dx) = normalize(arr.shape, spacing)
     start = time.perf_counter()
     texture, cutoffs, heights = measured_chain(arr, (dy, dx), form, s, l, degree, axis, stage)

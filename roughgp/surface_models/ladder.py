@@ -35,6 +35,7 @@ import time
 
 import numpy as np
 
+from roughgp.common.checks import surface_array
 from roughgp.common.grid import normalize
 from roughgp.filling.self_check import (
     CHECK_SHARE,
@@ -133,9 +134,7 @@ def choose_model(z, spacing=1.0, *, rungs=RUNGS, form="plane", s=None, l=None, d
     those, choose, and fit the chosen rung on all points (module docstring). ``progress``:
     called with each :class:`Rung` as it is scored. Raises ``ValueError`` when too few points
     are measured to hold some out."""
-    arr = np.asarray(z, dtype=np.float64)
-    if arr.ndim != 2:
-        raise ValueError(f"z must be a surface z[iy, ix], got shape {arr.shape}")
+    arr = surface_array(z)
     unknown = [r for r in rungs if r not in RUNGS]
     if unknown or not rungs:
         raise ValueError(f"rungs must be a non-empty selection of {list(RUNGS)}, got "
