@@ -45,7 +45,6 @@ no module imports another round a circle):
 """
 
 from roughgp.api import check, fill, fit, read, simulate, texture
-
-__version__ = "0.1.0"
+from roughgp.common.version import VERSION as __version__
 
 __all__ = ["read", "fit", "simulate", "check", "fill", "texture", "__version__"]

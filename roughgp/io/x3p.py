@@ -31,6 +31,7 @@ import numpy as np
 from roughgp.common.checks import profile_or_surface
 from roughgp.common.dates import creation_date
 from roughgp.common.grid import normalize
+from roughgp.common.version import VERSION
 from roughgp.io.readers import MAX_POINTS, MalformedFileError
 
 __all__ = ["MAX_XML_BYTES", "LATERAL_RANGE", "Z_RANGE", "WRITE_REVISION", "HeightMap", "read_x3p",
@@ -275,8 +276,7 @@ def write_x3p(path, z, spacing, *, comment=None, creator=None, offset=None, date
     x3pio = _x3pio()
     arr = profile_or_surface(z)
     _, spacing = normalize(arr.shape, spacing)
-    from roughgp import __version__
-    metadata = x3pio.Metadata.for_software("roughgp", __version__, date=creation_date(date))
+    metadata = x3pio.Metadata.for_software("roughgp", VERSION, date=creation_date(date))
     metadata.comment = None if comment is None else str(comment)
     metadata.creator = None if creator is None else str(creator)
     options = {"metadata": metadata, "revision": x3pio.Revision(WRITE_REVISION)}

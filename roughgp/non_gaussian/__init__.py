@@ -40,6 +40,9 @@ Modules: :mod:`~roughgp.non_gaussian.johnson` (the Johnson family and its fit to
 skewness and kurtosis), :mod:`~roughgp.non_gaussian.hermite` (the correlation map g and
 the pre-distorted ACVF), :mod:`~roughgp.non_gaussian.draws` (the surface). Their public
 names are re-exported here.
+
+May import: :mod:`roughgp.common`, :mod:`roughgp.gp`, :mod:`roughgp.sampling`,
+:mod:`roughgp.io`, :mod:`roughgp.metrology`, :mod:`roughgp.models`.
 """
 
 from roughgp.non_gaussian.draws import NonGaussianInfo, non_gaussian_surface

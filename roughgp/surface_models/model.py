@@ -308,14 +308,14 @@ class FittedModel:
 
     # ------------------------------------------------------------------ the file
     def to_dict(self) -> dict:
-        from roughgp import __version__
+        from roughgp.common.version import VERSION
         return {"format": MODEL_FORMAT, "version": MODEL_VERSION, "equation": self.equation,
                 "kind": self.kind, "stage": self.stage, "description": self.describe(),
                 "hyperparameters": _plain(self.hyperparameters),
                 "spacing_um": [float(d) for d in self.spacing],
                 "marginal": _plain(self.marginal), "operators": list(self.operators),
                 "cutoffs": _plain(self.cutoffs), "data": _plain(self.data),
-                "fit": _plain(self.fit), "roughgp_version": __version__}
+                "fit": _plain(self.fit), "roughgp_version": VERSION}
 
     @classmethod
     def from_dict(cls, values, source="the model") -> "FittedModel":
