@@ -26,8 +26,8 @@ from pathlib import Path
 
 import numpy as np
 
-from roughgp.experiments import spurious_points as sp
 from roughgp.filling import self_check
+from roughgp.experiments import spurious_points as sp
 
 RESULTS = Path(__file__).resolve().parent / "results"
 

@@ -27,19 +27,19 @@ import time
 
 import numpy as np
 
-from roughgp.checking.model_check import ModelCheck, check_model
-from roughgp.experiments.real_maps import DATA
 from roughgp.filling.interpolants import interpolate_holes
+from roughgp.checking.model_check import ModelCheck, check_model
 from roughgp.filling.measured import MeasuredFill, fill_measured_surface
-from roughgp.filling.self_check import hide_discs, median_abs_of, rmse_of
-from roughgp.io.measurement import Measurement, read_measurement
-from roughgp.metrology.form import remove_form
 from roughgp.surface_models.fit import (
     ProfileModelFit,
     SurfaceModelFit,
     fit_profile_model,
     fit_surface_model,
 )
+from roughgp.filling.self_check import hide_discs, median_abs_of, rmse_of
+from roughgp.experiments.real_maps import DATA
+from roughgp.metrology.form import remove_form
+from roughgp.io.measurement import Measurement, read_measurement
 
 __all__ = ["DATA", "LAND_FILE", "PROFILE_FILE", "LAND_L_FILTER", "LandResult", "ProfileResult",
            "CrossValidation", "CV_FILES", "lay_deviation_deg", "land_fit", "land_check",

@@ -119,8 +119,8 @@ def check_device(full):
     """Beyond the paper, scale: the device= paths (roughgp.common.device) give the numpy paths'
     numbers, on torch's CPU and, where torch sees one, on a GPU."""
     from roughgp import sampling
-    from roughgp.common import device as devices
     from roughgp.filling import global_fill as gap_filling
+    from roughgp.common import device as devices
     from roughgp.gp import kernels
     from roughgp.inference import posterior
     from roughgp.models import surfaces
