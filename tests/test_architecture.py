@@ -97,11 +97,6 @@ def test_imports_run_one_way():
     assert not wrong, "imports against the layers:\n" + "\n".join(wrong)
 
 
-def _faces():
-    """The package faces: the ``__init__`` modules (they hand names on)."""
-    return {m for m, p in MODULES.items() if p.name == "__init__.py"}
-
-
 def import_graph(modules=None) -> dict:
     """``{module: {modules it imports}}`` over the modules that are no package face, local
     imports included: ``from roughgp.a.b import c`` is an arrow to ``roughgp.a.b.c`` where that

@@ -202,7 +202,8 @@ def fit_sm_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, axis
                  marginal="gaussian", seed=0, data=None,
                  max_components=MAX_COMPONENTS) -> SmModelFit:
     """The 2-D spectral mixture (``"sm2d"``) of a surface ``z[iy, ix]`` (um, NaN where
-    unmeasured; module docstring), of stage ``"form-removed"``.
+    unmeasured; :mod:`roughgp.surface_models.spectral_mixture` says how), of stage
+    ``"form-removed"``.
 
     Args:
         spacing: scalar or ``(dy, dx)``, um.
@@ -250,8 +251,8 @@ class PsdModelFit:
 
 def fit_psd_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, axis="auto",
                   marginal="gaussian", seed=0, data=None) -> PsdModelFit:
-    """The measured-psd model of a surface ``z[iy, ix]`` (um, NaN where unmeasured; module
-    docstring).
+    """The measured-psd model of a surface ``z[iy, ix]`` (um, NaN where unmeasured;
+    :mod:`roughgp.surface_models.measured_psd` says how).
 
     Args:
         spacing: scalar or ``(dy, dx)``, um.
