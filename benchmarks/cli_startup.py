@@ -16,7 +16,7 @@ seconds their imports took. Not a test: run it by hand at the repository root,
 
 ``SurfaceTopography`` in the last column is its whole package (all readers, pandas,
 matplotlib, ...); ``SurfaceTopography.IO.Reader`` alone is the one-reader path of
-:mod:`roughgp.metrology.instrument_readers` (an ``.opd`` needs no more).
+:mod:`roughgp.io.instrument_readers` (an ``.opd`` needs no more).
 
 The machine's load shows in the figures (it prints the 1-minute load average): compare the
 fastest times across runs on a busy machine.

@@ -39,7 +39,7 @@ import numpy as np
 import torch
 
 from roughgp import sampling
-from roughgp.beyond import gap_filling
+from roughgp.filling import global_fill as gap_filling
 from roughgp.common import device as devices
 from roughgp.gp import kernels
 from roughgp.gp.toeplitz import toeplitz_log_likelihood

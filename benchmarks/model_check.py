@@ -6,7 +6,7 @@ The map: an eq 18 surface of known hyperparameters (variance 1 um^2, lambda 8 an
 rectangle of 5 % of its points set to NaN, saved as ``.npy`` in a temporary folder. Each
 command runs as a subprocess (start-up, reading, the work) and its wall time is printed, with
 the default L-filter (``--l-filter auto``): ``fit ground --model auto`` (the ladder of models,
-roughgp.beyond.measured.ladder, chosen by a held-out score) and ``check`` of the model it
+roughgp.surface_models.ladder, chosen by a held-out score) and ``check`` of the model it
 chose; then ``fit ground --model psd --marginal iaaft`` and its ``check`` (the IAAFT marginal
 costs 20 rounds of remap and FFT on a field of four times the map's points per simulation).
 Before the ladder, on 2026-12-02 with another job running beside it: eq 18's fit 42.3 s, check
@@ -38,7 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
-from roughgp.beyond.measured.model import FittedModel
+from roughgp.surface_models.model import FittedModel
 
 SHAPE = (512, 512)
 

@@ -4,7 +4,7 @@ synthetic measurements, recorded (issue 29, step 2: 10 % +- 3 % outside per para
 Each synthetic measurement (64 x 64 by default, seed 0) is fitted (eq 18, stage
 "form-removed") and checked against the true and the fitted model with ``--draws``
 simulations (default 99): the first 19 make the plain check, all of them the
-Rao-Blackwellised share and the ranks' uniformity test (roughgp.beyond.measured.check_ranks).
+Rao-Blackwellised share and the ranks' uniformity test (roughgp.checking.ranks).
 Each case's record (the ranks, not the simulations) is appended to
 ``benchmarks/results/model_check_calibration_<size>.jsonl`` as it comes (a case already there is
 skipped, so a long run can be resumed or split into parts with ``--first``/``--cases`` and
@@ -43,7 +43,7 @@ import sys
 import time
 from pathlib import Path
 
-from roughgp.beyond.measured.check import STD_FRAME
+from roughgp.checking.model_check import STD_FRAME
 from roughgp.common.atomic import atomic_output
 from roughgp.experiments import bootstrap_calibration as bc
 from roughgp.experiments import check_calibration as cc

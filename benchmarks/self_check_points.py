@@ -2,7 +2,7 @@
 "its calibrated band holds 93-97 %" on the defect-laden ``sur-2.sur``).
 
 The band factor is a split-conformal quantile of the self-check's held-out scores
-(:mod:`roughgp.beyond.measured.self_check`); with heavy-tailed errors in clusters (a disc's
+(:mod:`roughgp.filling.self_check`); with heavy-tailed errors in clusters (a disc's
 points err together) its estimate from a couple of hundred discs scatters. On ``sur-2.sur``
 (whole map, spurious points flagged by ``detect_spurious``, seed 0; the chapter "Spurious
 points"' full-size study), 2 % of the unflagged points are hidden in discs (the
@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from roughgp.beyond.measured import self_check
+from roughgp.filling import self_check
 from roughgp.experiments import spurious_points as sp
 
 RESULTS = Path(__file__).resolve().parent / "results"

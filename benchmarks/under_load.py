@@ -50,8 +50,8 @@ def _burn(stop_after: float) -> None:  # pragma: no cover - runs in a child proc
 def holed_crop(folder: Path, seed: int = 0) -> Path:
     """The 256 x 256 crop of ``data/opd-1.opd`` with 2 % of its points in seeded discs set
     missing, written as ``.x3p`` (the file's spacing kept); returns its path."""
-    from roughgp.metrology.measurement import read_measurement
-    from roughgp.metrology.x3p import write_x3p
+    from roughgp.io.measurement import read_measurement
+    from roughgp.io.x3p import write_x3p
 
     measured = read_measurement(ROOT / "data" / "opd-1.opd")
     z = np.array(measured.z[:256, :256], dtype=np.float64)

@@ -4,7 +4,7 @@ test_api_reference.py``), and :func:`add_missing` writes the entries a new modul
 
 A module is public when no part of its dotted name starts with ``_`` (``roughgp.sampling``'s
 ``grid_sampler`` is; ``roughgp.__main__`` or a ``_helpers`` module is not). A module's page is
-its subpackage's (``roughgp.beyond.measured.fill`` -> ``book/api/beyond.md``); the package
+its subpackage's (``roughgp.filling.measured`` -> ``book/api/filling.md``); the package
 ``roughgp`` itself is on ``index.md``'s table, not documented by autodoc.
 """
 

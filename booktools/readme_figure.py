@@ -20,7 +20,7 @@ OUT = ROOT / "book" / "images" / "surfaces.png"
 
 def main(out: Path = OUT) -> Path:
     from roughgp.common import plotting
-    from roughgp.metrology.measurement import read_measurement
+    from roughgp.io.measurement import read_measurement
     from roughgp.metrology.texture_report import filtered_parameters
     from roughgp.models import surfaces
 

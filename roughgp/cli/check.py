@@ -1,5 +1,6 @@
 """``roughgp check MODEL.json FILE``: does the fitted model reproduce the measurement?
-(:func:`roughgp.beyond.measured.check.check_model`). Argument handling and the table only.
+(:func:`roughgp.check`: :func:`roughgp.checking.model_check.check_model`, or the calibrated
+check). Argument handling and the table only.
 """
 
 from __future__ import annotations
@@ -7,13 +8,8 @@ from __future__ import annotations
 import math
 import time
 
-from roughgp.cli.options import (
-    add_spurious_options,
-    bounds_text,
-    load_model,
-    read_input,
-    remove_spurious,
-)
+from roughgp.cli.bounds import bounds_text
+from roughgp.cli.options import add_spurious_options, load_model, read_input, remove_spurious
 from roughgp.cli.output import (
     UsageError,
     add_force_option,
@@ -91,7 +87,8 @@ def _spacing_note(heights, model) -> str | None:
 
 def run(args) -> int:
     """``roughgp check MODEL FILE``."""
-    from roughgp.beyond.measured.check import check_model, plot_model_check
+    from roughgp.api import check
+    from roughgp.checking.model_check import plot_model_check
     json_out, plot = check_outputs(("--json", args.json, "json"), ("--plot", args.plot, "plot"),
                                    inputs=(args.file, args.model), force=args.force)
     model = load_model(args.model)
@@ -101,7 +98,7 @@ def run(args) -> int:
                          f"{' x '.join(map(str, heights.z.shape))} points); {args.model} is a "
                          f"{model.kind} model: check it against a {model.kind}")
     if args.calibrate is not None:
-        from roughgp.beyond.measured.calibrated_check import refusal
+        from roughgp.checking.calibrated import refusal
         why = refusal(model)
         if why:
             raise UsageError(f"--calibrate: {args.model}: {why}")
@@ -113,7 +110,7 @@ def run(args) -> int:
     spacing = heights.spacing if model.kind == "surface" else (heights.spacing[-1],)
     calibrated = None
     if args.calibrate is None:
-        result = check_model(model, z, spacing, n_simulations=args.simulations, seed=args.seed)
+        result = check(model, z, spacing, n_simulations=args.simulations, seed=args.seed)
     else:
         calibrated = _calibrated(model, z, spacing, args, start)
         result = calibrated.check
@@ -157,7 +154,7 @@ def run(args) -> int:
 
 def _calibrated(model, z, spacing, args, start):
     """The calibrated check, a progress line a bootstrap copy."""
-    from roughgp.beyond.measured.calibrated_check import calibrated_check
+    from roughgp.api import check
 
     def progress(b, total):
         err(f"  bootstrap copy {b}/{total} refitted and checked "
@@ -169,8 +166,8 @@ def _calibrated(model, z, spacing, args, start):
             f"them is called outside only with probability {(args.calibrate + 1) / 10:g} "
             f"(--calibrate 9 or more removes that limit)")
     try:
-        return calibrated_check(model, z, spacing, n_simulations=args.simulations,
-                                n_bootstrap=args.calibrate, seed=args.seed, progress=progress)
+        return check(model, z, spacing, n_simulations=args.simulations, seed=args.seed,
+                     calibrate=args.calibrate, progress=progress)
     except ValueError as error:  # a copy the refit refuses (too few points, say)
         raise UsageError(f"--calibrate: {error}") from None
 

@@ -1,5 +1,6 @@
 """``roughgp fill FILE``: the unmeasured (NaN) points of a surface filled by the GP
-(:func:`roughgp.beyond.measured.fill.fill_measured_surface`). Argument handling and messages only.
+(:func:`roughgp.fill`: :func:`roughgp.filling.measured.fill_measured_surface`). Argument
+handling and messages only.
 """
 
 from __future__ import annotations
@@ -9,23 +10,17 @@ from pathlib import Path
 
 import numpy as np
 
-from roughgp.cli.options import (
-    add_form_options,
-    add_spurious_options,
-    bounds_text,
-    read_input,
-    remove_spurious,
-)
+from roughgp.cli.bounds import bounds_text, check_block
+from roughgp.cli.options import add_form_options, add_spurious_options, read_input, remove_spurious
 from roughgp.cli.output import (
     UsageError,
     add_force_option,
-    check_block,
     check_device,
     check_outputs,
     describe_groove,
     err,
 )
-from roughgp.metrology.writers import WRITE_FORMATS, write_heights
+from roughgp.io.writers import WRITE_FORMATS, write_heights
 
 __all__ = ['add_parser', 'run']
 
@@ -38,12 +33,12 @@ measured points alone (block composite likelihood, roughgp.inference.block_fit) 
 --model gives a model file of 'roughgp fit ground', the missing points get the GP posterior
 mean, and the form is added back. Before the fill, 2 % of the measured points (at most
 2000) are held out in small discs, filled without them and compared with their heights and
-with linear interpolation (roughgp.beyond.measured.self_check): the self-check says
+with linear interpolation (roughgp.filling.self_check): the self-check says
 whether the GP beats linear interpolation on this file, and calibrates the 95 % band of
 --band; --nu auto fits 0.5, 1.5 and 2.5 and keeps the smoothness that fills the held-out
 points best (eq 18 unless another is better by more than one standard error); --no-check
 skips it. --method local (default: moving-window kriging,
-roughgp.beyond.local_fill; bounded work, an exact sd per window, holds on real
+roughgp.filling.local_fill; bounded work, an exact sd per window, holds on real
 measurements) or global (all measured points: conjugate gradients with FFT products and
 --samples pathwise draws for the sd; for well-conditioned synthetic cases). --sd also
 writes the posterior standard deviation at the filled points. Heights and lengths in um.
@@ -98,8 +93,8 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
 
 def run(args) -> int:
     """``roughgp fill FILE``: fill the unmeasured points of a surface with the GP posterior."""
-    from roughgp.beyond.measured.fill import fill_measured_surface
     from roughgp.cli.options import load_model
+    from roughgp.api import fill
     out, sd_out, band_out = check_outputs(("--out", args.out, "heights"),
                                           ("--sd", args.sd, "heights"),
                                           ("--band", args.band, "heights"),
@@ -136,12 +131,11 @@ def run(args) -> int:
     start = time.perf_counter()
     samples = args.samples if (sd_out is not None and args.method == "global") else 0
     try:
-        result = fill_measured_surface(z, spacing=heights.spacing, n_samples=samples,
-                                       seed=args.seed, block=args.block, n_blocks=args.blocks,
-                                       form=None if args.form == "none" else args.form,
-                                       degree=args.degree, axis=args.axis, model=model,
-                                       method=args.method, nu=nu, self_check=args.check,
-                                       device=args.device)
+        result = fill(z, heights.spacing, model=model, n_samples=samples, seed=args.seed,
+                      block=args.block, n_blocks=args.blocks,
+                      form=None if args.form == "none" else args.form, degree=args.degree,
+                      axis=args.axis, method=args.method, nu=nu, self_check=args.check,
+                      device=args.device)
     except ValueError as exc:
         raise UsageError(f"{args.file}: {exc}") from None
     fit, fill = result.fit, result.gaps

@@ -1,5 +1,5 @@
 """``roughgp fit profile|ground FILE``: fit a model to a measurement and write it as a model
-file (:mod:`roughgp.beyond.measured`). Argument handling and the printed table only.
+file (:mod:`roughgp.surface_models`). Argument handling and the printed table only.
 """
 
 from __future__ import annotations
@@ -10,25 +10,18 @@ import time
 
 import numpy as np
 
+from roughgp.cli.bounds import bounds_text, check_block
 from roughgp.cli.options import (
     add_operator_options,
     add_spurious_options,
-    bounds_text,
     check_cutoffs,
     operator_settings,
     read_input,
     remove_spurious,
 )
-from roughgp.cli.output import (
-    UsageError,
-    add_force_option,
-    check_block,
-    check_outputs,
-    err,
-    print_wrapped,
-)
-from roughgp.metrology.measurement import mean_profile
-from roughgp.metrology.writers import atomic_output
+from roughgp.cli.output import UsageError, add_force_option, check_outputs, err, print_wrapped
+from roughgp.io.measurement import mean_profile
+from roughgp.io.writers import atomic_output
 
 __all__ = ['add_parser', 'run', 'MAX_PROFILE_POINTS']
 
@@ -73,16 +66,16 @@ instrument's; the standard's L-filter, the largest preferred nesting index <= a 
 field) are kept in the model file as the rest of the measurement's chain: 'roughgp check'
 and 'roughgp simulate --from' put the simulations through them as the measurement went
 (like with like). --non-gaussian keeps the heights' skewness and kurtosis in the model (its
-simulations are then Johnson-transformed GPs, roughgp.beyond.non_gaussian).
+simulations are then Johnson-transformed GPs, roughgp.non_gaussian).
 
---model chooses the rung of the ladder of models (roughgp.beyond.measured.ladder):
+--model chooses the rung of the ladder of models (roughgp.surface_models.ladder):
   eq18    the paper's eq 18 (default; --nu 1.5 or 2.5 makes it the Matern variant);
   matern  eq 18's anisotropy with a Matern profile, nu = --nu if 1.5 or 2.5, else 1.5;
   sm      a 2-D spectral mixture (eq 21/22's family on a surface,
-          roughgp.beyond.measured.sm_model): a broad component plus peaks for a lay, a period
+          roughgp.surface_models.spectral_mixture): a broad component plus peaks for a lay, a period
           or harmonics, fitted by the Whittle likelihood of the periodogram, Q <= 4 by BIC;
           for structured or periodic surfaces;
-  psd     the measured PSD itself, smoothed (roughgp.beyond.measured.psd_model): no
+  psd     the measured PSD itself, smoothed (roughgp.surface_models.measured_psd): no
           parametric form, the bound of what any stationary Gaussian model can do on the file;
   auto    fits the four without 2 % of the measured points (held out in small discs),
           predicts those by kriging with each model's covariance, prints one line per model
@@ -90,7 +83,7 @@ simulations are then Johnson-transformed GPs, roughgp.beyond.non_gaussian).
           best; the chosen one is fitted again on all points.
 --marginal gaussian|johnson|iaaft: the heights' distribution (johnson: their skewness and
 kurtosis, the same as --non-gaussian; iaaft: their whole distribution, 1001 quantiles, matched
-exactly by iterated amplitude-adjusted Fourier transforms, roughgp.beyond.measured.iaaft).
+exactly by iterated amplitude-adjusted Fourier transforms, roughgp.surface_models.iaaft).
 
 examples:
   roughgp fit ground land.x3p --form cylinder --out land-model.json
@@ -161,7 +154,7 @@ def run(args) -> int:
     check_cutoffs(operators, heights.z.shape, heights.spacing)
     for note in heights.notes:
         err(f"note: {args.file}: {note}")
-    from roughgp.beyond.measured.provenance import of_file
+    from roughgp.io.provenance import of_file
     data = of_file(args.file, heights)
     start = time.perf_counter()
     if args.model == "profile":
@@ -177,7 +170,7 @@ def run(args) -> int:
 
 
 def _fit_profile(args, heights, operators, data):
-    from roughgp.beyond.measured.fit import fit_profile_model
+    from roughgp.surface_models.fit import fit_profile_model
     z, spacing, how = mean_profile(heights, args.profile_axis)
     holes = int(np.count_nonzero(np.isnan(z)))
     if holes:
@@ -226,8 +219,8 @@ def _marginal_choice(args):
 
 
 def _fit_rungs(args, heights, operators, data, z):
-    """``fit ground --model matern|sm|psd|auto``: the ladder (roughgp.beyond.measured.ladder)."""
-    from roughgp.beyond.measured.ladder import choose_model, fit_rung
+    """``fit ground --model matern|sm|psd|auto``: the ladder (roughgp.surface_models.ladder)."""
+    from roughgp.surface_models.ladder import choose_model, fit_rung
     marginal = _marginal_choice(args)
     nu = args.nu if args.nu in (1.5, 2.5) else 1.5
     settings = dict(**operators, marginal=marginal, seed=args.seed, block=args.block,
@@ -280,7 +273,7 @@ def _print_mixture(model):
 
 
 def _fit_ground(args, heights, operators, data):
-    from roughgp.beyond.measured.fit import fit_surface_model
+    from roughgp.surface_models.fit import fit_surface_model
     if heights.kind != "surface":
         raise UsageError(f"{args.file} holds a profile; fit ground needs a surface z[iy, ix] "
                          f"(fit a profile with: roughgp fit profile)")

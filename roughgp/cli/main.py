@@ -19,11 +19,11 @@ import os
 import sys
 import warnings
 
-from roughgp.cli.options import check_bounds
+from roughgp.cli.bounds import check_bounds
 from roughgp.cli.output import UsageError, err, shell_message, show_warning
 from roughgp.cli.parser import build_parser
 from roughgp.common.threads import one_blas_thread
-from roughgp.metrology.readers import MalformedFileError
+from roughgp.io.readers import MalformedFileError
 
 __all__ = ["main"]
 

@@ -1,82 +1,24 @@
-"""Options that several commands share: the bounds of every numeric option (one table,
-:data:`BOUNDS`), the F-, S- and L-operators (texture, fit), a model file (simulate, check,
-fill) and the seed. Argument handling only.
+"""Options that several commands share: the F-, S- and L-operators (texture, fit), a model
+file (simulate, check, fill), the spurious points and the seed (the bounds of every numeric
+option are :mod:`roughgp.cli.bounds`'s). Argument handling only.
 """
 
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import math
 import secrets
 
 import numpy as np
 
+from roughgp.cli.bounds import bounds_text
 from roughgp.cli.output import UsageError, err
 from roughgp.common.checks import check_scale
 
-__all__ = ["Bound", "BOUNDS", "bounds_text", "check_bounds", "cutoff", "add_form_options",
+__all__ = ["cutoff", "add_form_options",
            "add_operator_options", "operator_settings", "check_cutoffs", "load_model",
            "check_scales", "seed_or_fresh", "read_input", "Given", "add_l_kind_options",
            "add_spurious_options", "remove_spurious"]
-
-
-@dataclasses.dataclass(frozen=True)
-class Bound:
-    """The allowed range ``[low, high]`` of a numeric option, in ``unit``."""
-
-    low: float
-    high: float
-    unit: str = ""
-
-    def numbers(self, joint: str) -> str:
-        """The two ends, integers as integers: ``"4 to 32"``, ``"1e-06, 1e+06"``."""
-        return joint.join(f"{v}" if isinstance(v, int) else f"{v:g}"
-                          for v in (self.low, self.high))
-
-    def text(self) -> str:
-        """``"4 to 32"``, ``"1e-06 to 1e+06 um"``: the range as the help states it."""
-        return self.numbers(" to ") + (f" {self.unit}" if self.unit else "")
-
-
-#: Every bounded numeric option of every command, checked by :func:`check_bounds` before the
-#: command runs and quoted by its ``--help`` (:func:`bounds_text`). The work-bound ranges
-#: were measured on the 2-core reference machine (2026-12-02): a fit of eq 18 costs about
-#: block^6 (a dense likelihood of block^2 points per block and step); ``check`` simulates and
-#: measures the map once per simulation. Lengths: a picometre to a metre.
-BOUNDS = {
-    "--seed": Bound(0, 2**32 - 1),
-    "--spacing": Bound(1e-6, 1e6, "um"),
-    "--s-filter": Bound(1e-6, 1e6, "um"),
-    "--l-filter": Bound(1e-6, 1e6, "um"),
-    "--degree": Bound(1, 10),
-    "--channel": Bound(0, 255),
-    "--mixtures": Bound(1, 50),
-    "--candidates": Bound(1, 200),
-    "--block": Bound(4, 32),
-    "--blocks": Bound(1, 200),
-    "--simulations": Bound(2, 99),
-    "--calibrate": Bound(1, 99),
-    "--samples": Bound(2, 256),
-}
-
-
-def bounds_text(option: str) -> str:
-    """The range of ``option`` for its help: ``"4 to 32"``."""
-    return BOUNDS[option].text()
-
-
-def check_bounds(args) -> None:
-    """Each option of :data:`BOUNDS` that the command has and was given a number: within its
-    range, or a :class:`UsageError` naming the option and the range (before any work)."""
-    for option, bound in BOUNDS.items():
-        value = getattr(args, option.lstrip("-").replace("-", "_"), None)
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            continue  # not this command's, not given, or a word (auto, none)
-        if not (math.isfinite(value) and bound.low <= value <= bound.high):
-            unit = f" {bound.unit}" if bound.unit else ""
-            raise UsageError(f"{option} must be in [{bound.numbers(', ')}]{unit}, got "
-                             f"{value:g}")
 
 
 def seed_or_fresh(seed):
@@ -151,12 +93,12 @@ def operator_settings(args) -> dict:
 
 
 def read_input(args, kind="auto"):
-    """The measurement of ``args.file`` (:func:`roughgp.metrology.measurement.read_measurement`
-    with the input options). ``--unit`` is the reader's to apply or refuse: it sets the heights'
-    unit of ``.npy``, text and instrument files, and an ``.x3p`` (metres) refuses it."""
-    from roughgp.metrology.measurement import read_measurement
-    return read_measurement(args.file, kind=kind, spacing=args.spacing,
-                            channel=args.channel, unit=args.unit)
+    """The measurement of ``args.file`` (:func:`roughgp.read` with the input options).
+    ``--unit`` is the reader's to apply or refuse: it sets the heights' unit of ``.npy``, text
+    and instrument files, and an ``.x3p`` (metres) refuses it."""
+    from roughgp.api import read
+    return read(args.file, kind=kind, spacing=args.spacing, channel=args.channel,
+                unit=args.unit)
 
 
 class Given(argparse.Action):
@@ -181,9 +123,9 @@ def check_cutoffs(operators: dict, shape, spacing) -> None:
 
 
 def load_model(path, option="MODEL"):
-    """A model file (:class:`roughgp.beyond.measured.model.FittedModel`); a usage error says
+    """A model file (:class:`roughgp.surface_models.model.FittedModel`); a usage error says
     what is wrong with it."""
-    from roughgp.beyond.measured.model import FittedModel, ModelFileError
+    from roughgp.surface_models.model import FittedModel, ModelFileError
     try:
         return FittedModel.load(path)
     except FileNotFoundError:
@@ -230,7 +172,7 @@ def add_spurious_options(parser) -> None:
 
 def remove_spurious(args, heights, form="plane"):
     """With --spurious: the heights of ``heights`` (a Measurement) with the spurious points set
-    to NaN (:func:`roughgp.beyond.measured.spurious.detect_spurious`, after the F-operator
+    to NaN (:func:`roughgp.filling.spurious.detect_spurious`, after the F-operator
     ``form``), the summary printed and the map written to --flagged (checked first); else the
     heights as read."""
     from roughgp.cli.output import check_outputs, err
@@ -238,8 +180,8 @@ def remove_spurious(args, heights, form="plane"):
         raise UsageError("--flagged writes the points --spurious flags: give --spurious too")
     if not args.spurious:
         return heights.z
-    from roughgp.beyond.measured.spurious import detect_spurious
-    from roughgp.metrology.writers import write_heights
+    from roughgp.filling.spurious import detect_spurious
+    from roughgp.io.writers import write_heights
     flagged_path = check_outputs(("--flagged", args.flagged, "heights"), inputs=(args.file,),
                                  force=getattr(args, "force", False))[0]
     if heights.z.ndim != 2:

@@ -14,12 +14,11 @@ from pathlib import Path
 import numpy as np
 
 from roughgp.common.atomic import atomic_output
-from roughgp.metrology.writers import check_write_format
+from roughgp.io.writers import check_write_format
 
 __all__ = ["UsageError", "WIDTH", "err", "show_warning", "wrap", "print_wrapped", "table",
            "write_json", "check_output", "check_outputs", "add_force_option",
-           "check_device", "describe_groove", "shell_message", "rename_parameters",
-           "check_block"]
+           "check_device", "describe_groove", "shell_message", "rename_parameters"]
 
 WIDTH = 100  # the plain-text tables are laid out for a 100-column terminal
 
@@ -57,21 +56,6 @@ def rename_parameters(message: str, names: dict) -> str:
         return message
     words = "|".join(map(re.escape, sorted(names, key=len, reverse=True)))
     return re.sub(rf"(?<![\w.-])({words})(?![\w(-])", lambda m: names[m.group(1)], message)
-
-
-def check_block(path, block: int, shape) -> None:
-    """The eq 18 block fit's ``--block`` against the map: at least 4 points along each axis,
-    and a block that fits in it; a :class:`UsageError` says what to give instead."""
-    side = min(shape)
-    if side < 4:
-        raise UsageError(f"{path} is {' x '.join(map(str, shape))} points: the eq 18 fit works "
-                         f"on blocks of at least 4 x 4 points, so the map needs at least 4 "
-                         f"points along each axis")
-    if block > side:
-        from roughgp.cli.options import BOUNDS  # imported here: options imports this module
-        low, high = BOUNDS["--block"].low, BOUNDS["--block"].high
-        raise UsageError(f"--block {block} exceeds the shorter side of {path} ({side} points): "
-                         f"give --block {low} to {min(side, high)}")
 
 
 def err(message: str) -> None:
@@ -128,7 +112,6 @@ def write_json(path_text: str, record: dict) -> None:
     err(f"wrote {path}")
 
 
-
 def check_output(path_text: str, option: str = "--out") -> Path:
     """The path of an output file of a format that roughgp writes; a usage error naming
     ``option`` otherwise."""
@@ -176,7 +159,7 @@ def check_outputs(*outputs, inputs=(), force=False) -> list:
     """The output-path rule of every command, applied before it computes anything.
 
     ``outputs``: ``(option, path text or None, kind)``, where ``kind`` is ``"heights"`` (a
-    format of :data:`roughgp.metrology.writers.WRITE_FORMATS`, by the extension) or
+    format of :data:`roughgp.io.writers.WRITE_FORMATS`, by the extension) or
     ``"json"`` (the extension must be ``.json``) or ``"plot"`` (:data:`PLOT_FORMATS`).
 
     The rule: the file written is the file named, letter for letter (the writers add no

@@ -7,9 +7,9 @@ from __future__ import annotations
 import argparse
 
 from roughgp.cli import check, fill, fit, reproduce, simulate, texture
-from roughgp.cli.options import bounds_text
+from roughgp.cli.bounds import bounds_text
 from roughgp.cli.output import WIDTH
-from roughgp.metrology.measurement import READ_FORMATS
+from roughgp.io.measurement import READ_FORMATS
 
 __all__ = ['build_parser']
 
@@ -84,10 +84,10 @@ def add_input_options(parser, *, kind=True,
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``roughgp`` argument parser (all sub-commands)."""
-    from roughgp import __version__
+    from roughgp.common.version import VERSION
     parser = argparse.ArgumentParser(prog="roughgp", description=_DESCRIPTION,
                                      formatter_class=formatter)
-    parser.add_argument("--version", action="version", version=f"roughgp {__version__}")
+    parser.add_argument("--version", action="version", version=f"roughgp {VERSION}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND",
                                 title="commands (roughgp COMMAND --help for each)")
 

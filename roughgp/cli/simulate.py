@@ -2,7 +2,7 @@
 
 A ground surface (eq 18 plus the noise of eq 8), a honed surface (eq 19, 20) or a synthetic
 turned surface or profile (:mod:`roughgp.models.turned`), written as ``.npy``, ``.csv`` or
-``.x3p`` (:mod:`roughgp.metrology.writers`). Argument handling and messages only.
+``.x3p`` (:mod:`roughgp.io.writers`). Argument handling and messages only.
 """
 
 from __future__ import annotations
@@ -15,7 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
-from roughgp.cli.options import bounds_text, check_scales, seed_or_fresh
+from roughgp.cli.bounds import bounds_text
+from roughgp.cli.options import check_scales, seed_or_fresh
 from roughgp.cli.output import (
     UsageError,
     add_force_option,
@@ -25,7 +26,7 @@ from roughgp.cli.output import (
     err,
     rename_parameters,
 )
-from roughgp.metrology.writers import WRITE_FORMATS, write_heights
+from roughgp.io.writers import WRITE_FORMATS, write_heights
 
 __all__ = ['MAX_SIMULATE_POINTS', 'add_parser', 'run']
 
@@ -63,7 +64,7 @@ lambda_a 500 um, lambda_b 5 um, angle 30 deg; noise variance 1 um^2, as in the p
 each option overrides one of them.
 
 With --target Sq=UM Sal=UM Str=RATIO Std=DEG the hyperparameters are chosen instead so that
-the surface has these ISO 25178-2 parameters (beyond the paper; roughgp.beyond.targets): the
+the surface has these ISO 25178-2 parameters (beyond the paper; roughgp.targets): the
 closed-form inversion sigma_k^2 = Sq^2 - sigma^2, lambda_b = Sal / ln(5 sigma_k^2 / Sq^2),
 lambda_a = lambda_b / Str, phi = Std, with the noise variance sigma^2 of --noise-variance
 (default 1 um^2: Sq must then exceed 1.118 um; give --noise-variance 0 or a smaller one for
@@ -219,8 +220,8 @@ def _groove(args, preset):
 
 def _parse_targets(pairs) -> dict:
     """``--target KEY=VALUE ...`` as a dict of floats; a usage error names a malformed,
-    repeated, unknown or missing key (the keys are those of roughgp.beyond.targets)."""
-    from roughgp.beyond.targets import TARGET_NAMES
+    repeated, unknown or missing key (the keys are those of roughgp.targets)."""
+    from roughgp.targets.closed_form import TARGET_NAMES
     values = {}
     for pair in pairs:
         key, sep, text = pair.partition("=")
@@ -245,8 +246,8 @@ def _parse_targets(pairs) -> dict:
 
 
 def _target_groove(args, shape):
-    """The eq 18 hyperparameters of ``--target`` (the closed form of roughgp.beyond.targets)."""
-    from roughgp.beyond import targets
+    """The eq 18 hyperparameters of ``--target`` (the closed form of roughgp.targets)."""
+    from roughgp import targets
     given = [opt for opt, value in (("--variance", args.variance),
                                     ("--lambda-a", args.lambda_a),
                                     ("--lambda-b", args.lambda_b),
@@ -264,7 +265,7 @@ def _target_groove(args, shape):
         message = rename_parameters(str(exc), {"noise_variance": "--noise-variance"})
         raise UsageError(f"--target: {message}") from None
     err(f"target Sq {values['Sq']:g} um, Sal {values['Sal']:g} um, Str {values['Str']:g}, "
-         f"Std {values['Std']:g} deg -> hyperparameters (closed form, roughgp.beyond.targets): "
+         f"Std {values['Std']:g} deg -> hyperparameters (closed form, roughgp.targets): "
          f"{describe_groove(hyper.groove)}, noise variance {hyper.noise_variance:g} um^2")
     short = targets.field_warning(hyper, shape, args.spacing)
     if short:
@@ -274,7 +275,7 @@ def _target_groove(args, shape):
 
 def _report_achieved(z, spacing, wanted) -> None:
     """The Sq, Sal, Str and Std of the drawn surface against the targets (stderr)."""
-    from roughgp.beyond import targets
+    from roughgp import targets
     got = targets.measure(z, spacing)
     units = {"Sq": " um", "Sal": " um", "Str": "", "Std": " deg"}
     parts = [f"{k} {got[k]:.4g}{units[k]} (target {getattr(wanted, k):g})"
@@ -307,7 +308,9 @@ def _report_sampler(steps, shape, spacing, method, device) -> None:
 
 
 def _run_model(args) -> int:
-    """``roughgp simulate --from MODEL.json``: draw from a fitted model."""
+    """``roughgp simulate --from MODEL.json``: draw from a fitted model
+    (:func:`roughgp.simulate`)."""
+    from roughgp.api import simulate
     from roughgp.cli.options import load_model
     if args.out is None:
         raise UsageError("--out FILE is required (the simulated surface: "
@@ -326,10 +329,10 @@ def _run_model(args) -> int:
     seed = seed_or_fresh(args.seed)
     err(f"drawing {' x '.join(map(str, shape))} points from {args.model}: {model.describe()}")
     start = time.perf_counter()
-    z = model.simulate(shape, seed=seed, spacing=spacing)
+    z = simulate(model, shape, seed=seed, spacing=spacing)
     _check_drawn(z)
     if not args.model_stage:
-        from roughgp.beyond.measured.fit import rest_of_chain
+        from roughgp.surface_models.chain import rest_of_chain
         chain = rest_of_chain(model, z, spacing)
         z = chain.sl
         err(f"through the rest of the chain ({model.stage} model): "

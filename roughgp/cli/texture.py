@@ -59,7 +59,8 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
 
 def run(args) -> int:
     """``roughgp texture FILE``: ISO surface-texture parameters."""
-    from roughgp.metrology.texture_report import filtered_parameters, unit_of
+    from roughgp.api import texture
+    from roughgp.metrology.texture_report import unit_of
     given = getattr(args, "given", ())
     if args.unfiltered and given:
         raise UsageError(f"--unfiltered applies no operator: drop {', '.join(given)} (or "
@@ -72,8 +73,8 @@ def run(args) -> int:
     if not args.unfiltered:
         check_cutoffs(operators, heights.z.shape, heights.spacing)
     z = remove_spurious(args, heights, operators["form"])
-    report = filtered_parameters(z, heights.spacing, **operators,
-                                 filtered=not args.unfiltered, l_kind=args.l_kind)
+    report = texture(z, heights.spacing, **operators, filtered=not args.unfiltered,
+                     l_kind=args.l_kind)
     shape = " x ".join(map(str, heights.z.shape))
     spacing = ", ".join(f"{d:g}" for d in heights.spacing)
     print(f"{report.standard} of {args.file}")

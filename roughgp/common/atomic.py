@@ -1,7 +1,7 @@
 """Files written whole or not at all: :func:`atomic_output` (a temporary file in the same
 folder, renamed over the target when the writing ended normally). Every writer of roughgp
-goes through it: heights (:mod:`roughgp.metrology.writers`), model files
-(:meth:`roughgp.beyond.measured.model.FittedModel.save`), the commands' JSON and plots.
+goes through it: heights (:mod:`roughgp.io.writers`), model files
+(:meth:`roughgp.surface_models.model.FittedModel.save`), the commands' JSON and plots.
 """
 
 from __future__ import annotations

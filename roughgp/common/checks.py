@@ -126,15 +126,41 @@ def as_generator(seed) -> np.random.Generator:
                      f"got {seed!r}")
 
 
-def height_map(z, name: str = "z") -> np.ndarray:
+def profile_or_surface(z, name: str = "z") -> np.ndarray:
     """``z`` as a new float64 profile ``z[ix]`` or surface ``z[iy, ix]``: non-empty, no infinite
-    value, at least one measured point (NaN marks an unmeasured one); a ValueError otherwise."""
+    value (NaN marks an unmeasured point); a ValueError otherwise."""
     arr = np.array(z, dtype=np.float64)
     if arr.ndim not in (1, 2) or arr.size == 0:
         raise ValueError(f"{name} must be a non-empty profile z[ix] (1-D) or surface z[iy, ix] "
                          f"(2-D), got shape {arr.shape}")
     if np.any(np.isinf(arr)):
         raise ValueError(f"{name} must not hold infinite values (NaN marks a missing point)")
+    return arr
+
+
+def height_map(z, name: str = "z") -> np.ndarray:
+    """``z`` as a new float64 profile ``z[ix]`` or surface ``z[iy, ix]``: non-empty, no infinite
+    value, at least one measured point (NaN marks an unmeasured one); a ValueError otherwise."""
+    arr = profile_or_surface(z, name)
     if not np.any(np.isfinite(arr)):
         raise ValueError(f"{name} must hold at least one measured (finite) point, got all NaN")
+    return arr
+
+
+def surface_array(z, name: str = "z") -> np.ndarray:
+    """``z`` as a float64 surface ``z[iy, ix]`` (NaN marks an unmeasured point); a ValueError
+    naming ``name`` and the shape otherwise."""
+    arr = np.asarray(z, dtype=np.float64)
+    if arr.ndim != 2:
+        raise ValueError(f"{name} must be a surface z[iy, ix], got shape {arr.shape}")
+    return arr
+
+
+def boolean_map(value, shape, name: str = "mask") -> np.ndarray:
+    """``value`` as a boolean map of the surface's ``shape`` (points to treat as missing, to
+    predict, ...); a ValueError naming ``name`` otherwise."""
+    arr = np.asarray(value)
+    if arr.dtype != bool or arr.shape != tuple(shape):
+        raise ValueError(f"{name} must be a boolean array of the shape of z {tuple(shape)}, got "
+                         f"{arr.dtype} of shape {arr.shape}")
     return arr

@@ -13,7 +13,7 @@ on another device (a CUDA GPU) when given ``device=``:
   gradient by a dense Cholesky factorisation on the device instead of the :math:`O(n^2)`
   recursion on the CPU (the same numbers; on a GPU the faster route for the paper's profile
   lengths, while the optimiser itself stays on the CPU);
-* :func:`roughgp.beyond.gap_filling.fill_gaps`: the FFT products and the batched conjugate
+* :func:`roughgp.filling.global_fill.fill_gaps`: the FFT products and the batched conjugate
   gradients.
 
 ``device=None`` (the default) keeps the numpy path; ``"cpu"`` runs the torch path on the

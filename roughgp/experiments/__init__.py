@@ -4,5 +4,5 @@ A chapter calls the function and draws its figures and states its numbers (glued
 result; the ledger's check (:mod:`roughgp.ledger`) calls the same function and judges the
 result, so the book's text, its figures and the ledger cannot drift apart.
 
-May import: everything below it (:mod:`roughgp.beyond` and down); not the ledger or the cli.
+May import: everything below it (:mod:`roughgp.api` and down); not the ledger or the cli.
 """

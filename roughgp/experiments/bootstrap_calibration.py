@@ -1,6 +1,6 @@
 r"""The records of the calibrated model check's calibration and what they tell (beyond the
 paper): per synthetic measurement (:func:`roughgp.experiments.model_check.bootstrap_case`) the
-plain and the calibrated verdicts (:mod:`roughgp.beyond.measured.calibrated_check`) against
+plain and the calibrated verdicts (:mod:`roughgp.checking.calibrated`) against
 the fitted model, and over the cases their shares outside with their intervals, the verdict on
 10 % +- 3 % per parameter, and the bootstrap's yardstick (how often the refitted copies lie
 outside their range, against the measurements).
@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from roughgp.beyond.measured.check_ranks import share_interval, verdict_within
+from roughgp.checking.ranks import share_interval, verdict_within
 from roughgp.experiments.check_calibration import (MIN_CASES_FOR_VERDICT, RECORDED,
                                                    plot_intervals)
 
@@ -23,16 +23,16 @@ __all__ = ["BootstrapCalibration", "BOOTSTRAP_RECORDED", "load_bootstrap", "plot
 
 @dataclasses.dataclass(frozen=True)
 class BootstrapCalibration:
-    """How often the calibrated check (:mod:`roughgp.beyond.measured.calibrated_check`) says
+    """How often the calibrated check (:mod:`roughgp.checking.calibrated`) says
     "outside" against the fitted model, per parameter, over the records of
     :func:`roughgp.experiments.model_check.bootstrap_case` (one synthetic measurement each), and
     the plain check on the same cases beside it.
 
     Three shares per parameter, each with its 95 % interval
-    (:func:`~roughgp.beyond.measured.check_ranks.share_interval`): ``"plain"``, the plain
+    (:func:`~roughgp.checking.ranks.share_interval`): ``"plain"``, the plain
     check's 0/1 verdicts; ``"calibrated"``, the calibrated check's 0/1 verdicts (tie-breaking
     drawn from the seed); ``"chance"``, their expectation over the tie-breaking draw
-    (:func:`~roughgp.beyond.measured.calibrated_check.outside_chance`, the lower-variance
+    (:func:`~roughgp.checking.calibrated.outside_chance`, the lower-variance
     estimate the verdict on 10 % +- 3 % is given on). Cases whose measured value is not finite
     are left out of that parameter's shares.
     """
@@ -82,7 +82,7 @@ class BootstrapCalibration:
         """Per parameter a dict: each share (``plain``, ``calibrated``, ``chance``) with its
         ``_low`` and ``_high`` interval bounds, and ``within``: the verdict on
         :attr:`level` +- ``tolerance`` of the chance's interval
-        (:func:`~roughgp.beyond.measured.check_ranks.verdict_within`; "too few cases" under
+        (:func:`~roughgp.checking.ranks.verdict_within`; "too few cases" under
         :data:`MIN_CASES_FOR_VERDICT`)."""
         columns = {kind: self.values(kind) for kind in ("plain", "calibrated", "chance")}
         rows = []

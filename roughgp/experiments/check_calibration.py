@@ -2,7 +2,7 @@ r"""The records of the model check's calibration and what they tell (beyond the 
 per synthetic measurement the ranks of its texture parameters among the simulations of the
 true and of the fitted model (:class:`CheckRanks`), and over the cases (:class:`Calibration`)
 the plain and the Rao-Blackwellised share outside, their intervals, the ranks' uniformity and
-the verdict on 10 % +- 3 % per parameter (:mod:`roughgp.beyond.measured.check_ranks`).
+the verdict on 10 % +- 3 % per parameter (:mod:`roughgp.checking.ranks`).
 :mod:`roughgp.experiments.model_check` runs the calibration and says what it measured.
 """
 
@@ -14,10 +14,10 @@ from pathlib import Path
 
 import numpy as np
 
-from roughgp.beyond.measured.check_ranks import (outside_probability, pit_pvalue, pit_values,
+from roughgp.checking.ranks import (outside_probability, pit_pvalue, pit_values,
                                                  share_interval, uniform_rank_sd,
                                                  verdict_within)
-from roughgp.beyond.measured.model import FittedModel
+from roughgp.surface_models.model import FittedModel
 
 __all__ = ["CASES", "MIN_CASES_FOR_VERDICT", "TABLE_FORMAT", "CheckRanks", "CalibrationCase",
            "Calibration", "RECORDED", "load_calibration", "plot_intervals", "plot_shares"]
@@ -39,7 +39,7 @@ class CheckRanks:
     """One synthetic measurement checked against one model with ``n_draws`` simulations: per
     parameter (in the calibration's ``names`` order) the measured value, the simulated values
     above, below and equal to it and the finite ones
-    (:func:`~roughgp.beyond.measured.check_ranks.rank_counts`), and the parameters outside the
+    (:func:`~roughgp.checking.ranks.rank_counts`), and the parameters outside the
     plain check of the first ``n_simulations`` draws (what ``roughgp check`` with the same seed
     says)."""
 
@@ -134,7 +134,7 @@ class Calibration:
 
     def outside_probabilities(self, which="fitted") -> np.ndarray:
         """The Rao-Blackwellised verdicts
-        (:func:`~roughgp.beyond.measured.check_ranks.outside_probability` of the ranks among
+        (:func:`~roughgp.checking.ranks.outside_probability` of the ranks among
         ``n_draws``), cases x parameters."""
         ranks = self._ranks(which)
         return np.array([outside_probability(r.above, r.below, r.finite, self.n_simulations)
@@ -184,9 +184,9 @@ class Calibration:
 
     def summary(self, which="fitted", tolerance=0.03) -> list:
         """Per parameter a dict: the 0/1 share and its interval, the Rao-Blackwellised share
-        and its interval (95 %, :func:`~roughgp.beyond.measured.check_ranks.share_interval`),
+        and its interval (95 %, :func:`~roughgp.checking.ranks.share_interval`),
         the PIT p-value and whether the share is within :attr:`expected` +- ``tolerance``
-        (:func:`~roughgp.beyond.measured.check_ranks.verdict_within` of the Rao-Blackwellised
+        (:func:`~roughgp.checking.ranks.verdict_within` of the Rao-Blackwellised
         interval; "too few cases" under :data:`MIN_CASES_FOR_VERDICT`)."""
         plain, rb = self.verdicts(which), self.outside_probabilities(which)
         pit = self.pit_pvalues(which)

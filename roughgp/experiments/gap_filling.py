@@ -7,11 +7,11 @@ model can interpolate them. This module is the one computation behind the book's
 * :func:`gap_scenario`: a ground surface of eq 18 (latent :math:`g`) and its measurement
   :math:`z = g + \varepsilon` (eq 8), with three kinds of holes: scattered dropouts, a scratch
   (a line 3 points wide across the surface) and a blob (an ellipse, like a steep flank);
-* :func:`~roughgp.beyond.interpolants.interpolate_baseline` (imported here): nearest, linear
+* :func:`~roughgp.filling.interpolants.interpolate_baseline` (imported here): nearest, linear
   (Delaunay) and cubic (Clough-Tocher) interpolation of the measured points, restricted to a
   window (a Delaunay triangulation of a regular grid is slow);
 * :func:`compare_gap_filling`: the GP posterior mean and sd
-  (:func:`roughgp.beyond.gap_filling.fill_gaps`) with the known hyperparameters and with those
+  (:func:`roughgp.filling.global_fill.fill_gaps`) with the known hyperparameters and with those
   fitted to the measured points alone (:func:`roughgp.inference.block_fit.fit_ground_to_valid_points`,
   eq 18 plus the noise of eq 8), scored by the RMSE against :math:`g` per hole type and by the
   share of the truth inside :math:`\pm 2` posterior sd. It returns a :class:`GapFillingResult`.
@@ -30,9 +30,9 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.stats
 
-from roughgp.beyond.gap_filling import GapFill, fill_gaps
-from roughgp.beyond.interpolants import INTERPOLANTS, Baseline, interpolate_baseline
 from roughgp.common.checks import check_integer
+from roughgp.filling.global_fill import GapFill, fill_gaps
+from roughgp.filling.interpolants import INTERPOLANTS, Baseline, interpolate_baseline
 from roughgp.inference.block_fit import BlockFit, fit_ground_to_valid_points
 from roughgp.models import surfaces
 
@@ -80,7 +80,7 @@ class GapFillingResult:
 
     Attributes:
         scenario: the surface and its holes.
-        fills: ``{"known", "fitted"}`` -> :class:`~roughgp.beyond.gap_filling.GapFill`.
+        fills: ``{"known", "fitted"}`` -> :class:`~roughgp.filling.global_fill.GapFill`.
         fitted: the block composite-likelihood fit on the measured points.
         baseline: the interpolants in the window.
         window_rmse: ``{"GP", "nearest", "linear", "cubic"}`` -> ``{hole kind, "all"}`` -> RMSE

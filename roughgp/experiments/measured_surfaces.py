@@ -11,7 +11,7 @@ The computations of the chapter "Measured surfaces", on the open files of ``data
 * :func:`cross_validated_fill`: measured points hidden in small discs (like an optical
   instrument's dropouts), filled by the GP (fitted without them; its smoothness and its band
   chosen by the fill's own self-check on other measured points,
-  :mod:`roughgp.beyond.measured.self_check`) and by linear and cubic interpolation, scored
+  :mod:`roughgp.filling.self_check`) and by linear and cubic interpolation, scored
   against the hidden measured heights; the share inside the GP's Gaussian :math:`\pm 2` sd
   band of a new measurement, :math:`\sqrt{sd^2 + \sigma^2}`, and inside its calibrated band;
 * :func:`increment_kurtosis`: how heavy-tailed the files' increments are (their defects).
@@ -27,19 +27,19 @@ import time
 
 import numpy as np
 
-from roughgp.beyond.interpolants import interpolate_holes
-from roughgp.beyond.measured.check import ModelCheck, check_model
-from roughgp.beyond.measured.fill import MeasuredFill, fill_measured_surface
-from roughgp.beyond.measured.fit import (
+from roughgp.filling.interpolants import interpolate_holes
+from roughgp.checking.model_check import ModelCheck, check_model
+from roughgp.filling.measured import MeasuredFill, fill_measured_surface
+from roughgp.surface_models.fit import (
     ProfileModelFit,
     SurfaceModelFit,
     fit_profile_model,
     fit_surface_model,
 )
-from roughgp.beyond.measured.self_check import hide_discs, median_abs_of, rmse_of
+from roughgp.filling.self_check import hide_discs, median_abs_of, rmse_of
 from roughgp.experiments.real_maps import DATA
 from roughgp.metrology.form import remove_form
-from roughgp.metrology.measurement import Measurement, read_measurement
+from roughgp.io.measurement import Measurement, read_measurement
 
 __all__ = ["DATA", "LAND_FILE", "PROFILE_FILE", "LAND_L_FILTER", "LandResult", "ProfileResult",
            "CrossValidation", "CV_FILES", "lay_deviation_deg", "land_fit", "land_check",
@@ -252,7 +252,7 @@ def cross_validated_fill(name=LAND_FILE, *, share=0.02, seed=0, form="cylinder",
                          crop=None, nu="auto") -> CrossValidation:
     """Hide ``share`` of the measured points of ``data/name`` in small discs, fill them with
     the GP (fitted without them, moving-window kriging, with the fill's self-check on other
-    measured points: :mod:`roughgp.beyond.measured.self_check`) and with linear and cubic
+    measured points: :mod:`roughgp.filling.self_check`) and with linear and cubic
     interpolation (Delaunay, Clough-Tocher, per hole), and score all against the hidden
     heights. ``crop``: a pair of slices to work on a part of the file; ``nu``: the smoothness
     of the fitted kernel (0.5: eq 18; 1.5, 2.5: its Matérn variant; ``"auto"``: the fill's

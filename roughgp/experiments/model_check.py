@@ -1,7 +1,7 @@
 r"""Is the model check itself calibrated? Fit -> check on synthetic measurements from known
 models (beyond the paper).
 
-:func:`roughgp.beyond.measured.check.check_model` calls a parameter "outside" when the
+:func:`roughgp.checking.model_check.check_model` calls a parameter "outside" when the
 measured value lies beyond all ``n`` simulated values. For a measurement drawn from the model
 that is checked, this happens with probability :math:`2 / (n + 1)` (10 % for 19 simulations,
 2 in 20): the measurement is then one more draw, and its rank among the ``n + 1`` values is
@@ -10,7 +10,7 @@ uniform. :func:`calibrate` measures how often it happens, per parameter:
 * **true model**: the measurement checked against the model it was drawn from (the rank test
   as such; a check that says "outside" far from 10 % of the time here is broken);
 * **fitted model**: the measurement checked against eq 18 fitted to it
-  (:func:`~roughgp.beyond.measured.fit.fit_surface_model`, stage ``"form-removed"``), the loop
+  (:func:`~roughgp.surface_models.fit.fit_surface_model`, stage ``"form-removed"``), the loop
   ``roughgp fit ground`` -> ``check`` runs. The fit matches the model to this very
   measurement, which could pin a parameter (Sq through the variance, Sal through the lengths)
   and make the check conservative for it; measured (below), the fit rather finds the
@@ -24,7 +24,7 @@ Each check therefore draws ``n_draws`` simulations (:func:`rank_check`; the firs
 Rao-Blackwellised one (the verdict's conditional expectation given the rank among all draws,
 same mean, per case a scatter of 0.21 instead of 0.30 for a calibrated check) with its
 interval, and the Kolmogorov-Smirnov test of the ranks' uniformity
-(:mod:`roughgp.beyond.measured.check_ranks`).
+(:mod:`roughgp.checking.ranks`).
 
 :func:`compare_stages` measures why the model describes the form-removed heights: the same
 L-filtered synthetic measurements fitted at stage ``"form-removed"`` (simulations filtered
@@ -54,13 +54,13 @@ its simulations more often than below (mean rank 0.64 for Sq and Sa, 0.62 for Sa
 expected), the fit finding the variance (median 0.944 of the true one) and the lengths (0.947,
 0.935) a little short, while variance / sqrt(lambda_a lambda_b) comes out at 1.006 with a
 scatter of 0.077 against 0.13 for the variance alone. Std, framed by the pooled axial mean
-(:func:`~roughgp.beyond.measured.check.axial_frame`): 10.9 % against the true model, 11.6 % on
+(:func:`~roughgp.checking.model_check.axial_frame`): 10.9 % against the true model, 11.6 % on
 the isotropic model's 110 cases (the earlier frame, centred on the measured direction, never
 said outside there), its ranks uniform (KS p 0.35); Std's ranks were counted again on the
 recorded cases and fits (:func:`recheck`), the other parameters' are as first recorded.
 
 :func:`bootstrap_case` checks the same measurements against the same fits by the calibrated
-check (:mod:`roughgp.beyond.measured.calibrated_check`). Measured on the first 125 with 19
+check (:mod:`roughgp.checking.calibrated`). Measured on the first 125 with 19
 refitted copies (``benchmarks/model_check_calibration.py --bootstrap 19``; records and table in
 ``benchmarks/results/model_check_bootstrap_64.*``): 10.8 % outside on average (the plain check
 on the same cases 10.2 %); Sq, Sa and Sk move up towards 10 % (5.6 -> 7.5, 4.0 -> 6.6, 3.2 ->
@@ -75,15 +75,15 @@ import time
 
 import numpy as np
 
-from roughgp.beyond.measured.calibrated_check import calibrated_check
-from roughgp.beyond.measured.check import (STD_FRAME, SURFACE_PARAMETERS, axial_frame,
+from roughgp.checking.calibrated import calibrated_check
+from roughgp.checking.model_check import (STD_FRAME, SURFACE_PARAMETERS, axial_frame,
                                            check_model)
-from roughgp.beyond.measured.check_ranks import rank_counts
-from roughgp.beyond.measured.fit import fit_surface_model
-from roughgp.beyond.measured.model import FittedModel
+from roughgp.checking.ranks import rank_counts
 from roughgp.common.settings import pick
 from roughgp.experiments.check_calibration import (CASES, Calibration, CalibrationCase,
                                                    CheckRanks)
+from roughgp.surface_models.fit import fit_surface_model
+from roughgp.surface_models.model import FittedModel
 
 __all__ = ["rank_check", "calibrate", "recheck", "synthetic_measurement", "EXPECTED_OUTSIDE",
            "StageComparison", "compare_stages", "bootstrap_case", "check_both_ways"]
@@ -96,7 +96,7 @@ EXPECTED_OUTSIDE = 0.1
 def rank_check(model, z, *, n_simulations=19, n_draws=99, seed=0,
                names=SURFACE_PARAMETERS) -> CheckRanks:
     """Check ``z`` against ``model`` with ``n_draws`` simulations (seeded like
-    :func:`~roughgp.beyond.measured.check.check_model`, whose first ``n_simulations`` draws
+    :func:`~roughgp.checking.model_check.check_model`, whose first ``n_simulations`` draws
     they are) and count the ranks (:class:`~roughgp.experiments.check_calibration.CheckRanks`)."""
     if not isinstance(n_draws, (int, np.integer)) or not n_simulations <= n_draws <= 999:
         raise ValueError(f"n_draws must be an integer in [n_simulations = {n_simulations}, 999], "
@@ -236,7 +236,7 @@ def bootstrap_case(index, *, shape=(64, 64), n_bootstrap=19, seed=0, block=16, n
                    names=SURFACE_PARAMETERS) -> dict:
     """The ``index``-th synthetic measurement of :func:`calibrate` (the same map, the same fit)
     checked against its fitted model by the calibrated check
-    (:func:`~roughgp.beyond.measured.calibrated_check.calibrated_check`, ``n_bootstrap``
+    (:func:`~roughgp.checking.calibrated.calibrated_check`, ``n_bootstrap``
     refitted copies, seed ``seed + index``), as a record for
     :class:`~roughgp.experiments.bootstrap_calibration.BootstrapCalibration`: per parameter the
     extremeness of the measurement and of each copy, the calibrated p, the outside chance, the

@@ -3,13 +3,14 @@ r"""Which model reproduces which measurement: a ladder of models on the real map
 
 Each *rung* of :data:`RUNGS` fits a model to a measured surface: the paper's eq 18 with
 Gaussian heights (eq 8) or the measured skewness and kurtosis (Johnson,
-:mod:`roughgp.beyond.non_gaussian`), eq 18's anisotropy with a Matérn profile (:math:`\nu` =
-1.5, 2.5), a 2-D spectral mixture (eq 21/22's family, :mod:`roughgp.beyond.measured.sm_model`)
-and the map's own smoothed PSD (:mod:`roughgp.beyond.measured.psd_model`: what any stationary
-Gaussian model could do), each with Gaussian heights or the measured ones matched exactly
-(IAAFT, :mod:`roughgp.beyond.measured.iaaft`). :func:`run_rung` asks two questions of a rung:
+:mod:`roughgp.non_gaussian`), eq 18's anisotropy with a Matérn profile (:math:`\nu` =
+1.5, 2.5), a 2-D spectral mixture (eq 21/22's family,
+:mod:`roughgp.surface_models.spectral_mixture`) and the map's own smoothed PSD
+(:mod:`roughgp.surface_models.measured_psd`: what any stationary Gaussian model could do),
+each with Gaussian heights or the measured ones matched exactly (IAAFT,
+:mod:`roughgp.surface_models.iaaft`). :func:`run_rung` asks two questions of a rung:
 
-* **Does it reproduce the measurement?** :func:`~roughgp.beyond.measured.check.check_model`
+* **Does it reproduce the measurement?** :func:`~roughgp.checking.model_check.check_model`
   places the map's 13 ISO 25178-2 parameters among those of 19 seeded simulations of the model
   (put through the map's holes and F-operator as the map was): a parameter is *outside* when
   the measured value lies beyond all 19. For a model that describes the measurement this
@@ -17,9 +18,9 @@ Gaussian model could do), each with Gaussian heights or the measured ones matche
   (:mod:`roughgp.experiments.model_check` measured 9.9 % on average over 550 synthetic maps):
   about 1.3 of 13 outside, and 2 or fewer with probability 0.88 were the 13 independent.
 * **Does it predict held-out points?** 2 % of the measured points (at most
-  :data:`~roughgp.beyond.measured.self_check.CHECK_POINTS`, in small discs) are held out
+  :data:`~roughgp.filling.self_check.CHECK_POINTS`, in small discs) are held out
   before the fit and kriged with its kernel
-  (:func:`~roughgp.beyond.measured.self_check.self_check_fill`): the RMSE relative to linear
+  (:func:`~roughgp.filling.self_check.self_check_fill`): the RMSE relative to linear
   interpolation's (below 1: the correlation helps) and the share inside :math:`\pm 2`
   predictive sd. Kriging uses the kernel alone: Johnson or IAAFT heights score as Gaussian.
 
@@ -40,14 +41,13 @@ from pathlib import Path
 
 import numpy as np
 
-from roughgp.beyond.measured.check import SURFACE_PARAMETERS, check_model
-from roughgp.beyond.measured.fit import fit_surface_model, form_removed
-from roughgp.beyond.measured.psd_model import fit_psd_model
-from roughgp.beyond.measured.self_check import held_out_points, self_check_fill
-from roughgp.beyond.measured.sm_model import fit_sm_model
+from roughgp.checking.model_check import SURFACE_PARAMETERS, check_model
 from roughgp.common.settings import pick
 from roughgp.experiments.real_maps import REAL_MAPS, real_file
-from roughgp.metrology.measurement import read_measurement
+from roughgp.filling.self_check import held_out_points, self_check_fill
+from roughgp.io.measurement import read_measurement
+from roughgp.surface_models.chain import form_removed
+from roughgp.surface_models.fit import fit_psd_model, fit_sm_model, fit_surface_model
 
 __all__ = ["Rung", "RUNGS", "PSD_MARGINALS", "SM_MARGINALS", "QUICK_RUNGS", "QUICK_FILES", "FORMS",
            "MAX_OUTSIDE", "TARGET_SHARE", "crop_size", "crop_window", "RECORDED",
@@ -67,7 +67,7 @@ FORMS = {"sample-land.x3p": "cylinder"}
 @dataclasses.dataclass(frozen=True)
 class Rung:
     """One model of the ladder: ``fit(z, spacing, *, form, seed, data)`` returns a fit result
-    whose ``.model`` is a :class:`~roughgp.beyond.measured.model.FittedModel` of stage
+    whose ``.model`` is a :class:`~roughgp.surface_models.model.FittedModel` of stage
     ``"form-removed"`` (and ``.range_notes``, where it has them, what the range check did)."""
 
     name: str
@@ -105,7 +105,7 @@ PSD_MARGINALS = ("gaussian", "iaaft")
 SM_MARGINALS = PSD_MARGINALS
 
 #: The ladder, simplest first. eq 18 is the paper's row; the measured-PSD model
-#: (:mod:`roughgp.beyond.measured.psd_model`) with :data:`PSD_MARGINALS`.
+#: (:mod:`roughgp.surface_models.measured_psd`) with :data:`PSD_MARGINALS`.
 RUNGS = {rung.name: rung for rung in (
     Rung("eq18", "eq 18, Gaussian (the paper)", _eq18(), "eq 18\n(paper)"),
     Rung("eq18-johnson", "eq 18, Johnson heights", _eq18(non_gaussian=True), "eq 18\nJohnson"),
@@ -154,7 +154,7 @@ class RungResult:
         file, rung: the map (its name in ``data/``) and the rung's name.
         window: the crop, ``(first row, first column, rows, columns)`` of the map.
         outside: the parameters outside the 19 simulations' range (None: the rung failed).
-        check: the :class:`~roughgp.beyond.measured.check.ModelCheck` (None: failed).
+        check: the :class:`~roughgp.checking.model_check.ModelCheck` (None: failed).
         rmse_ratio: the GP's held-out RMSE over linear interpolation's (NaN: no score).
         coverage: the share of the held-out heights within 2 predictive sd (NaN: no score).
         fit_seconds, check_seconds: wall times.

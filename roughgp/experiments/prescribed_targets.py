@@ -21,13 +21,13 @@ def target_verdicts(goal, values, sq_prediction) -> dict:
     bool.
 
     Args:
-        goal: the :class:`~roughgp.beyond.targets.RoughnessTargets`.
+        goal: the :class:`~roughgp.targets.closed_form.RoughnessTargets`.
         values: ``{"Sq": array, "Sal": ..., "Str": ..., "Std": ...}``, one value per surface
-            (:func:`~roughgp.beyond.targets.achieved_parameters`).
+            (:func:`~roughgp.targets.closed_form.achieved_parameters`).
         sq_prediction: ``(mean, sd)`` of Sq on the field
-            (:func:`~roughgp.beyond.targets.sq_prediction`).
+            (:func:`~roughgp.targets.closed_form.sq_prediction`).
     """
-    from roughgp.beyond import targets
+    from roughgp import targets
     summary = targets.summarize(values)
     n = len(values["Sq"])
     sq_mean, sq_sd = sq_prediction

@@ -11,7 +11,7 @@ r"""Three small computations shared by a chapter and the ledger: eq 5, long corr
   the exponential ACVF of lambda = 500 as an exact AR(1), and the grid-size FFT filter, which
   wraps it (chapter ``arma``, check ``conclusion-long-correlation``).
 * :func:`non_gaussian_acvf` -- the conclusion's non-Gaussian surfaces: Johnson-transformed,
-  pre-distorted GPs (eq 8, 9; :mod:`roughgp.beyond.non_gaussian`), their mean empirical ACVF
+  pre-distorted GPs (eq 8, 9; :mod:`roughgp.non_gaussian`), their mean empirical ACVF
   with and without pre-distortion against the target, and their Ssk and Sku (ISO 25178-2)
   against the targets (chapter ``non_gaussian``, check ``conclusion-non-gaussian``).
 
@@ -26,8 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
-from roughgp import sampling
-from roughgp.beyond import non_gaussian
+from roughgp import non_gaussian, sampling
 from roughgp.common.settings import resolve_full
 from roughgp.gp import acvf, fourier, kernels
 from roughgp.metrology import spectral, texture_heights
@@ -252,7 +251,7 @@ def _draw(kernel, shape, target, seed, n_samples, predistortion):
 
 def non_gaussian_acvf(full=None, *, targets=None, kernel=None, shape=(512, 512), seed=3,
                       n_samples=None, max_lag=16):
-    """Johnson surfaces (:func:`roughgp.beyond.non_gaussian.non_gaussian_surface`) for each
+    """Johnson surfaces (:func:`roughgp.non_gaussian.non_gaussian_surface`) for each
     (Ssk, Sku) of ``targets`` (default: the plateau-like (-1.5, 6)) with the ACVF of
     ``kernel`` (default :func:`plateau_kernel`): ``n_samples`` surfaces (5, or 20 with
     ``full``) with and, for non-Gaussian targets, without pre-distortion from one ``seed``."""

@@ -4,7 +4,7 @@ r"""Spurious points: the chapter's computations (beyond the paper).
   their standards (a spike, a deep valley, a step; a plateau-honed profile with waviness).
 * :func:`benchmark`: eq 18 and plateau-honed surfaces (eq 19-20) with spikes and pits of
   3-20 sd injected at known points (a share :data:`SHARES` of the points, sign at random):
-  each method of :data:`roughgp.beyond.measured.spurious.METHODS` (and the GP detector
+  each method of :data:`roughgp.filling.spurious.METHODS` (and the GP detector
   without its robust rounds) flags points; its detection rate (injected points flagged) and
   false-alarm rate (other points flagged), and on the surfaces without injections the share
   it flags. :func:`detection_targets` judges the issue's targets (GP >= 95 % detection,
@@ -26,21 +26,21 @@ from pathlib import Path
 import numpy as np
 import scipy.ndimage
 
-from roughgp.beyond.interpolants import interpolate_holes
-from roughgp.beyond.measured.fill import fill_measured_surface
-from roughgp.beyond.measured.self_check import (
+from roughgp.experiments import honed
+from roughgp.experiments.measured_surfaces import CV_FILES, DATA, centre_crop
+from roughgp.filling.interpolants import interpolate_holes
+from roughgp.filling.measured import fill_measured_surface
+from roughgp.filling.self_check import (
     disc_mean_difference,
     hide_discs,
     method_difference,
     rmse_of,
     verdict_of,
 )
-from roughgp.beyond.measured.spurious import METHODS, detect_spurious, flag_by, noise_floor
-from roughgp.experiments import honed
-from roughgp.experiments.measured_surfaces import CV_FILES, DATA, centre_crop
+from roughgp.filling.spurious import METHODS, detect_spurious, flag_by, noise_floor
+from roughgp.io.measurement import read_measurement
 from roughgp.metrology.filters import gaussian_filter
 from roughgp.metrology.form import remove_form
-from roughgp.metrology.measurement import read_measurement
 from roughgp.metrology.robust_filters import robust_gaussian_filter, robust_l_filter
 from roughgp.metrology.stratified import stratified_l_filter
 from roughgp.metrology.texture_heights import material_ratio_parameters
@@ -166,7 +166,7 @@ class RealFileStudy:
         band_coverage: the share of them within the GP's calibrated 95 % band (with flagging);
             band_se: its standard error over the discs (the points of a disc are correlated).
         self_check_verdict: the self-check's verdict (with flagging): ``"GP"``, ``"linear"``
-            or ``"tie"`` (:func:`~roughgp.beyond.measured.self_check.verdict_of`);
+            or ``"tie"`` (:func:`~roughgp.filling.self_check.verdict_of`);
             cv_verdict: the cross-validation's, on its hidden points.
         floor, noise_variances, history: the detector's noise floor, its first and last
             fits' noise variances, the points flagged in any round so far, after each.
@@ -290,7 +290,7 @@ NOISE_TILE = 16  #: the side (points) of the tiles of :func:`tile_noise`
 @dataclasses.dataclass(frozen=True)
 class TileNoise:
     """:func:`tile_noise`: per tile, ``noise_sd`` (the root of
-    :func:`~roughgp.beyond.measured.spurious.noise_floor`), ``flagged`` and ``counts`` (its
+    :func:`~roughgp.filling.spurious.noise_floor`), ``flagged`` and ``counts`` (its
     flagged and its measured points)."""
 
     noise_sd: np.ndarray
@@ -317,7 +317,7 @@ class TileNoise:
 
 def tile_noise(residual, flagged, tile=NOISE_TILE) -> TileNoise:
     """Whether one noise variance describes a map: the noise bound of
-    :func:`~roughgp.beyond.measured.spurious.noise_floor` on each ``tile`` x ``tile`` tile of
+    :func:`~roughgp.filling.spurious.noise_floor` on each ``tile`` x ``tile`` tile of
     ``residual`` (NaN: unmeasured; tiles with fewer than half their points measured dropped),
     beside how many of its measured points are ``flagged``. The bound's MAD ignores a band
     narrower than half a tile, hence small tiles. Where the noise sd varies several-fold

@@ -8,5 +8,6 @@ sampler: "sampling with the marginal likelihood"), :mod:`~roughgp.inference.mixt
 holes).
 
 May import: :mod:`roughgp.common`, :mod:`roughgp.gp`, :mod:`roughgp.sampling`,
-:mod:`roughgp.metrology`, :mod:`roughgp.models`.
+:mod:`roughgp.io`, :mod:`roughgp.metrology`, :mod:`roughgp.models`,
+:mod:`roughgp.non_gaussian`, :mod:`roughgp.targets`.
 """

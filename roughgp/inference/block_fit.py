@@ -1,6 +1,6 @@
 r"""Fit eq 18 plus noise to the valid points of a height map with holes (beyond the paper).
 
-:func:`roughgp.beyond.gap_filling.fill_gaps` needs the kernel and the noise variance; a measurement
+:func:`roughgp.filling.global_fill.fill_gaps` needs the kernel and the noise variance; a measurement
 with unmeasured points comes without them. :func:`fit_ground_to_valid_points` estimates
 :math:`\sigma_k^2, \lambda_a, \lambda_b, \phi` (eq 18) and :math:`\sigma^2` (eq 8) from the
 measured points alone by **maximum block composite likelihood**: the grid is cut into
@@ -36,7 +36,7 @@ import numpy as np
 import scipy.linalg
 import scipy.optimize
 
-from roughgp.common.checks import as_generator, check_integer
+from roughgp.common.checks import as_generator, boolean_map, check_integer
 from roughgp.common.grid import centred_lags, normalize
 from roughgp.common.numerics import perturbed_start
 from roughgp.common.threads import one_blas_thread
@@ -73,7 +73,7 @@ class BlockFit:
 
     @property
     def kernel(self):
-        """The fitted kernel, for :func:`roughgp.beyond.gap_filling.fill_gaps`: eq 18's
+        """The fitted kernel, for :func:`roughgp.filling.global_fill.fill_gaps`: eq 18's
         ``RotatedExponentialKernel`` (``nu = 0.5``) or the function of lags of
         :func:`roughgp.gp.acvf.rotated_matern`."""
         if self.nu == 0.5:
@@ -234,10 +234,7 @@ def fit_ground_to_valid_points(z, *, spacing=1.0, mask=None, block=24, n_blocks=
         raise ValueError("z must not hold inf; mark unmeasured points with NaN or in mask")
     valid = ~np.isnan(z)
     if mask is not None:
-        mask = np.asarray(mask)
-        if mask.dtype != bool or mask.shape != z.shape:
-            raise ValueError(f"mask must be a boolean array of the shape of z {z.shape}, got "
-                             f"{mask.dtype} of shape {mask.shape}")
+        mask = boolean_map(mask, z.shape)
         valid &= ~mask
     block = check_integer("block", block, 4)
     if block > min(z.shape):

@@ -58,9 +58,9 @@ def check_non_gaussian(full):
 
 def check_prescribed(full):
     """Conclusion, future work [16]: surfaces with predefined roughness parameters. The
-    closed-form inversion of Sq, Sal, Str, Std into eq 18 plus noise (roughgp.beyond.targets),
+    closed-form inversion of Sq, Sal, Str, Std into eq 18 plus noise (roughgp.targets.closed_form),
     then the achieved parameters over several seeds."""
-    from roughgp.beyond import targets
+    from roughgp import targets
     from roughgp.experiments.prescribed_targets import target_verdicts
     goal = targets.RoughnessTargets(Sq=0.3, Sal=6.0, Str=0.1, Std=-20.0)
     noise = goal.Sq ** 2 * 0.1 / 1.1                        # sigma^2 / sigma_k^2 = 1/10
@@ -119,7 +119,7 @@ def check_device(full):
     """Beyond the paper, scale: the device= paths (roughgp.common.device) give the numpy paths'
     numbers, on torch's CPU and, where torch sees one, on a GPU."""
     from roughgp import sampling
-    from roughgp.beyond import gap_filling
+    from roughgp.filling import global_fill as gap_filling
     from roughgp.common import device as devices
     from roughgp.gp import kernels
     from roughgp.inference import posterior

@@ -48,7 +48,7 @@ def check_land_model(full):
     heavy-tailed heights (Sku) lie far outside the Gaussian model's range, Sq above twice the
     simulations' median (the fit before the L-filter describes the waviness), the texture
     direction Std inside, the aspect ratio Str below (the chapter's assertions)."""
-    from roughgp.beyond.measured.check import plot_model_check
+    from roughgp.checking.model_check import plot_model_check
     from roughgp.experiments import measured_surfaces as ms
     land, fit = _land_fit(0)
     n = pick(QUICK_SIMULATIONS, 19, full=full)

@@ -17,6 +17,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from roughgp.common.checks import profile_or_surface
 from roughgp.common.grid import normalize
 
 __all__ = ["LevelFit", "level"]
@@ -55,12 +56,7 @@ def level(z, *, spacing=1.0, order=1, return_coefficients=False):
             determine the fit (e.g. all NaN, or a plane through points on one line),
             ``order`` not in {0, 1}, bad ``spacing``.
     """
-    arr = np.array(z, dtype=np.float64)  # a copy: the caller's array is never changed
-    if arr.ndim not in (1, 2) or arr.size == 0:
-        raise ValueError(f"z must be a non-empty profile z[ix] (1-D) or surface z[iy, ix] "
-                         f"(2-D), got shape {arr.shape}")
-    if np.any(np.isinf(arr)):
-        raise ValueError("z must not hold infinite values (NaN marks a missing point)")
+    arr = profile_or_surface(z)  # a copy: the caller's array is never changed
     if isinstance(order, bool) or order not in (0, 1):
         raise ValueError(f"order must be 0 (mean) or 1 (line / plane), got {order!r}")
     _, spacing = normalize(arr.shape, spacing)

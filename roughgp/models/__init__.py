@@ -8,5 +8,5 @@ presets), :mod:`~roughgp.models.turned` (synthetic turned profiles and surfaces 
 truth: the stand-ins for figures 4 and 6).
 
 May import: :mod:`roughgp.common`, :mod:`roughgp.gp`, :mod:`roughgp.sampling`,
-:mod:`roughgp.metrology`.
+:mod:`roughgp.io`, :mod:`roughgp.metrology`.
 """

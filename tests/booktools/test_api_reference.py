@@ -46,9 +46,21 @@ def test_a_reference_split_over_two_lines_or_naming_nothing_is_found(tmp_path):
     package = tmp_path / "roughgp"
     package.mkdir()
     (package / "mod.py").write_text(
-        '"""See :func:`~roughgp.beyond.measured.\n    check_ranks.rank_counts`, '
+        '"""See :func:`~roughgp.checking.\n    ranks.rank_counts`, '
         ':func:`roughgp.sampling.no_such_function`, :class:`roughgp.sampling.SamplingInfo` '
         'and :func:`numpy.fft.rfft`."""\n')
     assert api.broken_references(package) == [
-        "roughgp/mod.py:1: 'roughgp.beyond.measured.\\n    check_ranks.rank_counts'",
+        "roughgp/mod.py:1: 'roughgp.checking.\\n    ranks.rank_counts'",
         "roughgp/mod.py:2: 'roughgp.sampling.no_such_function'"]
+
+
+def test_every_api_page_is_in_the_table_of_contents_and_the_index():
+    """A subpackage's page is reachable: a section of book/_toc.yml and a row of the index's
+    table (no page of a package that is gone)."""
+    toc = (api.ROOT / "book" / "_toc.yml").read_text(encoding="utf-8")
+    index = (api.API / "index.md").read_text(encoding="utf-8")
+    pages = {p.stem for p in api.API.glob("*.md")} - {"index"}
+    assert pages == {api.page_of(m)[:-3] for m in api.public_modules()}
+    for page in sorted(pages):
+        assert f"file: api/{page}\n" in toc, f"book/_toc.yml misses api/{page}"
+        assert f"{{doc}}`{page}`" in index, f"book/api/index.md's table misses {page}"

@@ -12,10 +12,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from roughgp.cli.bounds import BOUNDS, bounds_text
 from roughgp.cli.main import main
-from roughgp.cli.options import BOUNDS, bounds_text
 from roughgp.cli.parser import build_parser
-from roughgp.metrology import x3p
+from roughgp.io import x3p
 from cli_run import run as _run
 
 DATA = Path(__file__).resolve().parents[2] / "data"
@@ -34,7 +34,7 @@ def surface(tmp_path):
 @pytest.fixture
 def no_reading(monkeypatch):
     """Fail if the input is read: the option's check comes before any work."""
-    from roughgp.metrology import measurement
+    from roughgp.io import measurement
 
     def refuse(*args, **kwargs):
         raise AssertionError("the input was read before the option was checked")

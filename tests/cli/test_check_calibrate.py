@@ -9,8 +9,8 @@ import json
 import numpy as np
 import pytest
 
-from roughgp.beyond.measured.fit import fit_surface_model
 from roughgp.experiments.model_check import synthetic_measurement
+from roughgp.surface_models.fit import fit_surface_model
 from cli_run import run as _run
 
 

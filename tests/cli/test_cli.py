@@ -17,7 +17,7 @@ import pytest
 from roughgp import ledger
 from roughgp.cli.main import main
 from roughgp.cli.simulate import MAX_SIMULATE_POINTS
-from roughgp.metrology import readers, x3p
+from roughgp.io import readers, x3p
 
 SHAPES = {"ground": (16, 24), "honed": (16, 24), "turned": (32, 48)}
 
@@ -39,7 +39,7 @@ def _simulate(capsys, tmp_path, kind, name, seed=1, shape=None, *extra):
 
 
 def _read_back(path):
-    """The heights of a file written by ``simulate``, read with roughgp.metrology.readers."""
+    """The heights of a file written by ``simulate``, read with roughgp.io.readers."""
     if path.suffix == ".npy":
         return np.load(path)
     if path.suffix == ".x3p":
@@ -210,7 +210,7 @@ def test_simulate_errors(capsys, tmp_path):
 # ------------------------------------------------------------------ simulate ground --target
 
 def test_simulate_ground_with_target(capsys, tmp_path):
-    from roughgp.beyond import prescribed, targets
+    from roughgp import targets
     path, err = _simulate(capsys, tmp_path, "ground", "t.npy", 2, (96, 96), "--target",
                           "Sq=1.0", "Sal=4", "Str=0.25", "Std=30", "--noise-variance", 0.05)
     hyper = targets.hyperparameters_for(1.0, 4.0, 0.25, 30.0, noise_variance=0.05)
@@ -220,7 +220,7 @@ def test_simulate_ground_with_target(capsys, tmp_path):
     achieved = next(line for line in err.splitlines() if line.startswith("achieved"))
     for name in ("Sq", "Sal", "Str", "Std"):
         assert f"{name} " in achieved and "target" in achieved
-    z, _ = prescribed.simulate_with_targets({"Sq": 1.0, "Sal": 4, "Str": 0.25, "Std": 30},
+    z, _ = targets.simulate_with_targets({"Sq": 1.0, "Sal": 4, "Str": 0.25, "Std": 30},
                                             (96, 96), seed=2, noise_variance=0.05)
     np.testing.assert_array_equal(np.load(path), z)
     measured = targets.measure(z)

@@ -10,8 +10,9 @@ import math
 import numpy as np
 import pytest
 
-from roughgp.metrology import readers, texture_report, x3p
-from roughgp.metrology.readers import MalformedFileError
+from roughgp.io import readers, x3p
+from roughgp.io.readers import MalformedFileError
+from roughgp.metrology import texture_report
 from cli_run import run as _run
 
 
@@ -97,7 +98,7 @@ def test_sample_grid_refuses_too_many_samples():
 
 
 def test_fill_gaps_refuses_too_many_draws():
-    from roughgp.beyond.gap_filling import fill_gaps
+    from roughgp.filling.global_fill import fill_gaps
     from roughgp.gp.kernels import RotatedExponentialKernel
     z = np.random.default_rng(0).normal(size=(16, 16))
     z[3, 3] = np.nan

@@ -10,10 +10,10 @@ import math
 import numpy as np
 import pytest
 
-from roughgp.beyond.measured.check import SURFACE_PARAMETERS
+from roughgp.checking.model_check import SURFACE_PARAMETERS
 from roughgp.gp.kernels import RotatedExponentialKernel
-from roughgp.metrology import x3p
-from roughgp.metrology.writers import write_heights
+from roughgp.io import x3p
+from roughgp.io.writers import write_heights
 from roughgp.sampling import sample_grid
 from cli_run import run
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from roughgp.cli.main import main
-from roughgp.metrology import x3p
+from roughgp.io import x3p
 from cli_run import run as _run
 
 LAND = Path(__file__).resolve().parents[2] / "data" / "sample-land.x3p"

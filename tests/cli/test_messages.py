@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from roughgp.cli.output import rename_parameters, shell_message
-from roughgp.metrology import x3p
+from roughgp.io import x3p
 from cli_run import run as _run
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from roughgp.cli.main import main
-from roughgp.metrology import writers, x3p
+from roughgp.io import writers, x3p
 from cli_run import run as _run
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -114,7 +114,7 @@ def test_a_folder_that_is_a_file_is_refused_before_any_computation(capsys, tmp_p
     blocker.write_text("a file, not a folder\n")
     argv = _commands(tmp_path, profile, blocker)[command]
     capsys.readouterr()
-    from roughgp.metrology import measurement
+    from roughgp.io import measurement
 
     def no_reading(*args, **kwargs):  # the check comes before the input is even read
         raise AssertionError("read the input before checking the output path")
@@ -137,7 +137,7 @@ def test_atomic_output_leaves_the_old_file_when_the_writer_fails(tmp_path):
 _SLOW_WRITER = """
 import sys
 import numpy as np
-from roughgp.metrology.writers import write_heights
+from roughgp.io.writers import write_heights
 z = np.random.default_rng(0).normal(size=(3000, 2000))
 try:
     write_heights(sys.argv[1], z, 1.0, "a large surface, written slowly as text")

@@ -9,7 +9,7 @@ import time
 import numpy as np
 import pytest
 
-from roughgp.metrology import x3p
+from roughgp.io import x3p
 from cli_run import run as _run
 
 

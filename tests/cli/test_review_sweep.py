@@ -9,8 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from roughgp.beyond.measured.model import FittedModel
 from roughgp.cli.main import main
+from roughgp.surface_models.model import FittedModel
 
 DATA = Path(__file__).resolve().parents[2] / "data"
 MODEL = FittedModel("eq18", {"variance_um2": 2.0, "lambda_a_um": 12.0, "lambda_b_um": 3.0,

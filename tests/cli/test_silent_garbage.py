@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from roughgp.metrology.measurement import read_measurement
-from roughgp.metrology.readers import MalformedFileError
+from roughgp.io.measurement import read_measurement
+from roughgp.io.readers import MalformedFileError
 from roughgp.metrology.texture import areal_parameters, profile_parameters
 from cli_run import run as _run
 

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from roughgp.metrology import x3p
+from roughgp.io import x3p
 
 ROOT = Path(__file__).resolve().parents[2]
 

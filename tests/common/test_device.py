@@ -16,9 +16,9 @@ import pytest
 import torch
 
 from roughgp import sampling
-from roughgp.beyond import gap_filling
 from roughgp.cli.main import main
 from roughgp.common import device as dev
+from roughgp.filling import global_fill as gap_filling
 from roughgp.gp import kernels, toeplitz
 from roughgp.inference import fitting, posterior
 from roughgp.models import surfaces

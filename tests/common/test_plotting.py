@@ -43,7 +43,7 @@ def test_the_style_keeps_text_readable_up_to_nine_inches(width):
 
 
 def test_the_model_check_grid_is_readable():
-    from roughgp.beyond.measured.check import ModelCheck, ParameterCheck, plot_model_check
+    from roughgp.checking.model_check import ModelCheck, ParameterCheck, plot_model_check
 
     rng = np.random.default_rng(0)
     names = ("Sq", "Ssk", "Sku", "Sp", "Sv", "Sz", "Sa", "Sal", "Str", "Std", "Sdq", "Sdr")

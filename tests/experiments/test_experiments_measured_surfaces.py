@@ -6,7 +6,7 @@ import types
 import pytest
 
 from roughgp.experiments import measured_surfaces as ms
-from roughgp.metrology.measurement import read_measurement
+from roughgp.io.measurement import read_measurement
 
 
 def test_centre_crop_takes_the_middle_and_whole_short_axes():

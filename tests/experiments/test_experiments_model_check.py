@@ -8,12 +8,12 @@ import json
 import numpy as np
 import pytest
 
-from roughgp.beyond.measured.check import check_model
-from roughgp.beyond.measured.check_ranks import outside_probability
-from roughgp.beyond.measured.model import FittedModel
+from roughgp.checking.model_check import check_model
+from roughgp.checking.ranks import outside_probability
 from roughgp.experiments.check_calibration import (Calibration, CalibrationCase, CheckRanks,
                                                    load_calibration)
 from roughgp.experiments.model_check import calibrate, rank_check, synthetic_measurement
+from roughgp.surface_models.model import FittedModel
 
 
 def test_synthetic_measurements_cycle_the_chain_and_the_holes():

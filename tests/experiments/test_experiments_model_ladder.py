@@ -10,10 +10,10 @@ import types
 import numpy as np
 import pytest
 
-from roughgp.beyond.measured.check import SURFACE_PARAMETERS
-from roughgp.beyond.measured.model import FittedModel
+from roughgp.checking.model_check import SURFACE_PARAMETERS
 from roughgp.common import plotting
 from roughgp.experiments import model_ladder as ml
+from roughgp.surface_models.model import FittedModel
 
 SHAPE = (64, 64)
 TRUTH = FittedModel("eq18", {"variance_um2": 1.0, "lambda_a_um": 6.0, "lambda_b_um": 3.0,
@@ -114,6 +114,8 @@ def test_best_rung_and_share(tmp_path):
     sizes = plotting.font_sizes_on_page(fig)
     assert min(v for v in sizes.values() if v is not None) >= plotting.MIN_FONT_PT
     assert not plotting.overlapping_tick_labels(fig)
+    import matplotlib.pyplot as plt
+    plt.close(fig)  # a figure left open would be counted by a later test (tests/ledger)
     # the records: written, read back, the same verdicts
     path = tmp_path / "records.jsonl"
     path.write_text("".join(json.dumps(r.to_record()) + "\n" for r in results))

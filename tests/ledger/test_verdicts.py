@@ -6,7 +6,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from roughgp.beyond import targets
+from roughgp import targets
 from roughgp.experiments import measured_surfaces as ms
 from roughgp.experiments.prescribed_targets import target_verdicts
 

@@ -1,0 +1,364 @@
+r"""A fitted model of a measured surface or profile, as a versioned JSON file (beyond the paper).
+
+The paper's loop is: measure a surface, fit the GP, simulate new surfaces like it. A
+:class:`FittedModel` is the middle of that loop, kept: the equation, its hyperparameters with
+their units, the height distribution (Gaussian, eq 8, or a Johnson transform of prescribed
+skewness and kurtosis, :mod:`roughgp.non_gaussian`), the operators applied to the data
+before the fit (form removal, S- and L-filters), the data it was fitted on and the fit's log
+likelihood. ``save`` / ``load`` write and read it (``format: roughgp-model``, ``version: 2``;
+a file of version 1 is read as stage ``"filtered"``, what version 1 fitted; the schema is
+:mod:`roughgp.surface_models.schema`); ``simulate(shape, seed=...)`` draws new surfaces from
+it.
+
+The stage of the operator chain (form removal F, then the S- and L-filters) at which the model
+describes the surface is ``stage``:
+
+* ``"form-removed"`` (what :func:`~roughgp.surface_models.fit.fit_surface_model` fits): the
+  heights after F, before S and L. A simulation is put through the rest of the chain (F again,
+  S, L, with the measurement's holes) before it is compared with the measurement
+  (:func:`roughgp.surface_models.chain.rest_of_chain`);
+* ``"filtered"``: the heights after every operator of ``cutoffs``; simulations are compared
+  as drawn (least-squares plane removed). A stationary ACVF fitted there cannot have the
+  filtered heights' covariance (:mod:`roughgp.surface_models.fit` says why and what it costs).
+
+Equations:
+
+* ``"eq18"``: a surface, the rotated anisotropic exponential ACVF of eq 18
+  (:math:`\sigma_k^2, \lambda_a, \lambda_b, \phi`) plus Gaussian noise :math:`\sigma^2` (eq 8);
+* ``"eq18-matern"``: eq 18's rotated anisotropy with a Matérn radial profile of smoothness
+  ``nu`` (1.5 or 2.5: smoother surfaces than eq 18's exponential,
+  :func:`roughgp.gp.acvf.rotated_matern`), plus Gaussian noise;
+* ``"eq21"``: a profile, the spectral mixture of eq 21 (weights, frequencies, spectral
+  variances) plus Gaussian noise;
+* ``"measured-psd"``: a surface, the measured PSD itself as a 40 x 36 log-polar table (um^4)
+  over frequencies ``frequency_min_per_um`` to ``frequency_max_per_um``, the nonparametric
+  stationary Gaussian model (:mod:`roughgp.surface_models.measured_psd`); its noise is in the
+  PSD (``noise_variance_um2`` 0), its ACVF the inverse DFT of the PSD;
+* ``"sm2d"``: a surface, a 2-D spectral mixture (eq 21's family in two dimensions, each
+  component a pair of Gaussians at :math:`\pm\boldsymbol\mu_q` with a full covariance given
+  by its bandwidths and axes' angle) plus Gaussian noise, for structured or periodic surfaces
+  (:mod:`roughgp.surface_models.spectral_mixture`); drawn by exact circulant embedding.
+
+Non-Gaussian heights (``marginal = {"skewness": s, "kurtosis": k}``) are drawn as
+:math:`Z = T(X) + e`: the latent surface is the Johnson transform of a pre-distorted GP with the
+fitted latent ACVF (:func:`roughgp.non_gaussian.non_gaussian_surface`), and the noise
+``e`` is added after it. With the latent share :math:`w = \sigma_k^2 / (\sigma_k^2 + \sigma^2)`,
+a sum of independent parts has skewness :math:`w^{3/2}` times and excess kurtosis :math:`w^2`
+times the latent one, so the latent targets are the measured ones divided by these factors.
+On the measured-psd model the Johnson marginal is drawn by IAAFT toward the Johnson
+distribution instead (a transform would change the PSD). The IAAFT marginal (``marginal =
+{"method": "iaaft", "quantiles_um": [...], "tail_probability": p, "iterations": n}``) keeps
+the measured heights' quantile function and matches it exactly, on any surface equation
+(:mod:`roughgp.surface_models.iaaft`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from roughgp.common.atomic import atomic_output
+from roughgp.common.checks import as_generator
+from roughgp.common.grid import normalize
+from roughgp.gp.noise import GaussianNoise
+from roughgp.surface_models.schema import (
+    EQUATIONS,
+    MAX_FILE_BYTES,
+    MODEL_FORMAT,
+    STAGES,
+    ModelFileError,
+    check_fields,
+    validate_record,
+)
+
+__all__ = ["FittedModel", "MODEL_FORMAT", "MODEL_VERSION", "EQUATIONS", "STAGES", "ModelFileError"]
+
+MODEL_VERSION = 2
+_MAX_SIMULATE_POINTS = 2 ** 24
+
+
+@dataclasses.dataclass(frozen=True)
+class FittedModel:
+    """A fitted surface model (eq 18, its Matérn variant, the measured PSD) or eq 21 profile
+    model (module docstring).
+
+    Attributes:
+        equation: ``"eq18"``, ``"eq18-matern"``, ``"eq21"``, ``"measured-psd"`` or
+            ``"sm2d"``.
+        hyperparameters: the names of :data:`EQUATIONS` (units in the names: um, um^2, deg,
+            1/um); eq 21's are lists of Q values.
+        spacing: the grid spacing of the data, ``(dy, dx)`` (surface) or ``(dx,)`` (profile), um.
+        marginal: None (Gaussian heights), ``{"skewness": s, "kurtosis": k}`` of the heights
+            (Pearson's kurtosis, 3 for Gaussian; Johnson) or the IAAFT marginal (module
+            docstring) that simulations reproduce.
+        operators: the operators applied to the data before the fit, e.g.
+            ``["F: cylinder ...", "L: Gaussian 250 um"]`` (they are applied to simulations
+            too when a model is checked).
+        cutoffs: ``{"form": ..., "s_um": ..., "l_um": ...}``: the operators' settings.
+        data: what the model was fitted on (file, shape, missing share, points used, ...).
+        fit: how (method, log likelihood, seed, seconds, ...).
+        stage: ``"form-removed"`` or ``"filtered"``: where in the operator chain the model
+            describes the surface (module docstring).
+    """
+
+    equation: str
+    hyperparameters: dict
+    spacing: tuple
+    marginal: dict | None = None
+    operators: tuple = ()
+    cutoffs: dict = dataclasses.field(default_factory=dict)
+    data: dict = dataclasses.field(default_factory=dict)
+    fit: dict = dataclasses.field(default_factory=dict)
+    stage: str = "form-removed"
+
+    def __post_init__(self):
+        check_fields(self.equation, self.hyperparameters, self.spacing, self.marginal,
+                     self.cutoffs, self.stage, self.operators)
+
+    # ------------------------------------------------------------------ what it is
+    @property
+    def kind(self) -> str:
+        """``"surface"`` or ``"profile"``."""
+        return EQUATIONS[self.equation][0]
+
+    @property
+    def noise_variance(self) -> float:
+        return float(self.hyperparameters["noise_variance_um2"])
+
+    def kernel(self):
+        """The fitted latent kernel (:mod:`roughgp.gp.kernels`), lengths in um; for the
+        measured-psd model a function of lags ``(..., 2)`` in (x, y) order: the ACVF tabulated
+        by the inverse DFT of its PSD
+        (:class:`~roughgp.surface_models.measured_psd.TabulatedACVF`)."""
+        hp = self.hyperparameters
+        if self.equation == "measured-psd":
+            from roughgp.surface_models.measured_psd import TabulatedACVF
+            return TabulatedACVF(self)
+        if self.equation == "sm2d":
+            from roughgp.surface_models.spectral_mixture import Mixture2D, sm2d_acvf
+            mixture = Mixture2D.from_hyperparameters(hp)
+            return lambda lags: sm2d_acvf(lags, mixture)
+        if self.equation == "eq18-matern":
+            from roughgp.gp.acvf import rotated_matern
+            scales = np.array([hp["lambda_a_um"], hp["lambda_b_um"]], dtype=np.float64)
+            variance, angle, nu = float(hp["variance_um2"]), math.radians(hp["angle_deg"]), \
+                float(hp["nu"])
+            return lambda lags: rotated_matern(lags, variance, scales, angle, nu)
+        if self.equation == "eq18":
+            from roughgp.gp.kernels import RotatedExponentialKernel
+            return RotatedExponentialKernel(hp["variance_um2"],
+                                            (hp["lambda_a_um"], hp["lambda_b_um"]),
+                                            math.radians(hp["angle_deg"]))
+        from roughgp.gp.kernels import SpectralMixtureKernel
+        weights = np.asarray(hp["weights_um2"], dtype=np.float64)
+        q = weights.size
+        return SpectralMixtureKernel(
+            q, dim=1, weights=weights,
+            means=np.asarray(hp["frequencies_per_um"], dtype=np.float64).reshape(q, 1),
+            variances=np.asarray(hp["spectral_variances_per_um2"],
+                                 dtype=np.float64).reshape(q, 1))
+
+    def latent_variance(self) -> float:
+        hp = self.hyperparameters
+        if self.equation == "measured-psd":
+            from roughgp.surface_models.measured_psd import band_variance
+            return band_variance(self)
+        if self.kind == "surface" and self.equation != "sm2d":
+            return float(hp["variance_um2"])
+        return float(np.sum(hp["weights_um2"]))
+
+    def describe(self) -> str:
+        """One line: the equation and its hyperparameters."""
+        hp = self.hyperparameters
+        if self.equation == "measured-psd":
+            rows = hp["psd_um4"]
+            text = (f"measured PSD ({len(rows)} x {len(rows[0])} log-polar table, "
+                    f"{hp['frequency_min_per_um']:.4g} to {hp['frequency_max_per_um']:.4g} 1/um), "
+                    f"variance {self.latent_variance():.4g} um^2")
+        elif self.equation == "sm2d":
+            # a peak: a component whose frequency lies further from 0 than its bandwidths
+            periods = ", ".join(f"{1 / math.hypot(fx, fy):.4g}" for fx, fy, a, b in
+                                zip(hp["frequencies_x_per_um"], hp["frequencies_y_per_um"],
+                                    hp["bandwidths_a_per_um"], hp["bandwidths_b_per_um"])
+                                if math.hypot(fx, fy) > max(a, b))
+            text = (f"2-D spectral mixture: Q = {len(hp['weights_um2'])} components, variance "
+                    f"{self.latent_variance():.4g} um^2"
+                    + (f", peaks at periods {periods} um" if periods else ", no peak"))
+        elif self.kind == "surface":
+            name = "eq 18" if self.equation == "eq18" else f"eq 18 with Matern nu = {hp['nu']:g}"
+            text = (f"{name}: variance {hp['variance_um2']:.4g} um^2, lambda_a "
+                    f"{hp['lambda_a_um']:.4g} um, lambda_b {hp['lambda_b_um']:.4g} um, angle "
+                    f"{hp['angle_deg']:.1f} deg")
+        else:
+            q = len(np.atleast_1d(hp["weights_um2"]))
+            text = f"eq 21: Q = {q} spectral-mixture components, variance " \
+                   f"{self.latent_variance():.4g} um^2"
+        text += f"; noise variance {self.noise_variance:.3g} um^2"
+        if self.marginal_method == "iaaft":
+            q = self.marginal["quantiles_um"]
+            text += (f"; IAAFT heights ({len(q)} measured quantiles, {q[0]:.4g} to {q[-1]:.4g} "
+                     f"um, at most {self.marginal['iterations']} rounds)")
+        elif self.marginal is not None:
+            text += (f"; Johnson heights (skewness {self.marginal['skewness']:.3g}, kurtosis "
+                     f"{self.marginal['kurtosis']:.3g})")
+        return text
+
+    # ------------------------------------------------------------------ drawing
+    def simulate(self, shape, *, seed=None, spacing=None, n_samples=None, method="auto"):
+        """Draws from the model on a grid of ``shape`` (``(ny, nx)``, or ``n`` / ``(n,)`` for
+        a profile model) at the model's spacing (or ``spacing``, um).
+
+        Returns ``z`` of ``shape`` (``(n_samples, *shape)`` when ``n_samples`` is an int):
+        the latent GP (Johnson-transformed when the model has a ``marginal``) plus the noise.
+        """
+        from roughgp.sampling import sample_grid
+        from roughgp.surface_models.psd_table import population_slices
+        shape = (int(shape),) if np.ndim(shape) == 0 else tuple(int(n) for n in shape)
+        want = 2 if self.kind == "surface" else 1
+        if len(shape) != want or min(shape) < 1:
+            raise ValueError(f"shape must be {'(ny, nx)' if want == 2 else '(n,)'} of positive "
+                             f"integers for a {self.kind} model, got {shape}")
+        count = 1 if n_samples is None else int(n_samples)
+        if count < 1:
+            raise ValueError(f"n_samples must be >= 1, got {n_samples!r}")
+        if count * math.prod(shape) > _MAX_SIMULATE_POINTS:
+            raise ValueError(f"n_samples x shape = {count * math.prod(shape)} points exceeds "
+                             f"{_MAX_SIMULATE_POINTS} (2**24): draw fewer or smaller surfaces")
+        shape, spacing = normalize(shape, self.spacing if spacing is None else spacing)
+        rng = as_generator(seed)
+        if self.equation == "sm2d":
+            from roughgp.surface_models.spectral_mixture import Mixture2D, check_embeddable
+            check_embeddable(Mixture2D.from_hyperparameters(self.hyperparameters), shape,
+                             spacing)
+            method = "circulant" if method == "auto" else method  # exact (spectral_mixture)
+        remap = self.marginal is not None and (self.equation == "measured-psd"
+                                               or self.marginal_method == "iaaft")
+        if self.equation == "measured-psd":
+            from roughgp.surface_models.measured_psd import draw_psd_model
+            return self._returned(draw_psd_model(self, shape, spacing, rng, count,
+                                                 self._remapper(spacing, rng) if remap
+                                                 else None), n_samples)
+        if remap:  # on twice the field's points, then cropped (roughgp.surface_models.iaaft)
+            big = tuple(s.stop for s in population_slices(shape))
+            latent = sample_grid(self.kernel(), big, spacing=spacing, n_samples=count,
+                                 method=method, seed=rng)
+            z = GaussianNoise(self.noise_variance).sample(latent, seed=rng)
+            crop = (slice(None),) + tuple(slice(0, n) for n in shape)
+            remapped = self._remapper(spacing, rng)
+            return self._returned(np.stack([remapped(f) for f in z])[crop], n_samples)
+        if self.marginal is None:
+            latent = sample_grid(self.kernel(), shape, spacing=spacing, n_samples=count,
+                                 method=method, seed=rng)
+        else:
+            from roughgp.non_gaussian import non_gaussian_surface
+            w = self.latent_variance() / (self.latent_variance() + self.noise_variance)
+            skew = float(self.marginal["skewness"]) / w ** 1.5
+            kurt = 3.0 + (float(self.marginal["kurtosis"]) - 3.0) / w ** 2
+            latent, _ = non_gaussian_surface(self.kernel(), shape, skewness=skew, kurtosis=kurt,
+                                             spacing=spacing, seed=rng, n_samples=count,
+                                             method="circulant" if method == "auto" else method)
+        z = GaussianNoise(self.noise_variance).sample(latent, seed=rng)
+        return self._returned(z, n_samples)
+
+    @staticmethod
+    def _returned(z, n_samples):
+        return z if n_samples is not None else z[0]
+
+    @property
+    def marginal_method(self) -> str:
+        """``"gaussian"`` (no marginal), ``"johnson"`` or ``"iaaft"``."""
+        if self.marginal is None:
+            return "gaussian"
+        return self.marginal.get("method", "johnson")
+
+    def _remapper(self, spacing, rng):
+        """The function that gives a Gaussian draw (at ``spacing``; ``rng``: the sample's) the
+        model's height distribution by IAAFT (:mod:`roughgp.surface_models.iaaft`): the
+        stored quantiles, in the band above the L-filter's cut-off when the marginal has
+        ``above_l_um`` (:func:`~roughgp.surface_models.iaaft.iaaft_above`), or, for the
+        measured-psd model with a Johnson marginal, the Johnson distribution of the model's
+        skewness, kurtosis, variance and mean (its transform of a Gaussian field would change
+        the PSD)."""
+        from roughgp.surface_models import iaaft
+        cut = self.marginal.get("above_l_um") if self.marginal_method == "iaaft" else None
+        remapped = lambda field: self._remapped(field, rng)  # noqa: E731
+        if cut is None:
+            return remapped
+        return lambda field: iaaft.iaaft_above(field, remapped, cut, spacing)
+
+    def _remapped(self, field, rng):
+        """``field`` given the model's height distribution by IAAFT (:meth:`_remapper`)."""
+        from roughgp.surface_models import iaaft
+        if self.marginal_method == "iaaft":
+            values = iaaft.quantile_values(self.marginal["quantiles_um"],
+                                           self.marginal["tail_probability"], field.size, rng)
+            iterations = int(self.marginal["iterations"])
+        else:
+            from roughgp.non_gaussian.johnson import johnson_for
+            johnson = johnson_for(self.marginal["skewness"], self.marginal["kurtosis"],
+                                  self.latent_variance())
+            values = iaaft.johnson_values(johnson, field.size, rng) \
+                + float(self.hyperparameters.get("mean_um", 0.0))
+            iterations = iaaft.ITERATIONS
+        return iaaft.iaaft(field, values, iterations)[0]
+
+    # ------------------------------------------------------------------ the file
+    def to_dict(self) -> dict:
+        from roughgp.common.version import VERSION
+        return {"format": MODEL_FORMAT, "version": MODEL_VERSION, "equation": self.equation,
+                "kind": self.kind, "stage": self.stage, "description": self.describe(),
+                "hyperparameters": _plain(self.hyperparameters),
+                "spacing_um": [float(d) for d in self.spacing],
+                "marginal": _plain(self.marginal), "operators": list(self.operators),
+                "cutoffs": _plain(self.cutoffs), "data": _plain(self.data),
+                "fit": _plain(self.fit), "roughgp_version": VERSION}
+
+    @classmethod
+    def from_dict(cls, values, source="the model") -> "FittedModel":
+        """A model from the parsed JSON of a model file, validated
+        (:func:`~roughgp.surface_models.schema.validate_record`)."""
+        return cls(**validate_record(values, source))
+
+    def save(self, path) -> Path:
+        """Write the model file whole or not at all (:func:`roughgp.common.atomic.atomic_output`:
+        a temporary file renamed over ``path``; an interrupted save leaves ``path`` as it was).
+        Missing folders are made. Returns ``path``."""
+        path = Path(path)
+        text = json.dumps(self.to_dict(), indent=2, allow_nan=True) + "\n"
+        with atomic_output(path) as partial:
+            partial.write_text(text)
+        return path
+
+    @classmethod
+    def load(cls, path) -> "FittedModel":
+        path = Path(path)
+        if path.is_file() and path.stat().st_size > MAX_FILE_BYTES:
+            raise ModelFileError(f"{path} is larger than a model file can be "
+                                 f"({MAX_FILE_BYTES} bytes)")
+        try:
+            values = json.loads(path.read_text())
+        except UnicodeDecodeError:
+            raise ModelFileError(f"{path} is not a text (JSON) model file") from None
+        except json.JSONDecodeError as exc:
+            raise ModelFileError(f"{path} is not valid JSON ({exc.msg}, line {exc.lineno})") \
+                from None
+        except RecursionError:
+            raise ModelFileError(f"{path} is nested too deeply to be a model file") from None
+        return cls.from_dict(values, source=str(path))
+
+
+def _plain(value):
+    """JSON-ready: numpy scalars and arrays as Python numbers and lists."""
+    if isinstance(value, dict):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return _plain(value.tolist())
+    if isinstance(value, np.generic):
+        return value.item()
+    return value

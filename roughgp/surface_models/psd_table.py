@@ -1,0 +1,303 @@
+r"""The measured 2-D PSD as a compact log-polar table, and what is drawn from it (beyond the
+paper).
+
+The nonparametric stationary model of a measured surface
+(:mod:`roughgp.surface_models.measured_psd`) is its power spectral density :math:`C(\mathbf q)` (um^4: um^2 of height per (1/um)^2 of
+frequency), the Fourier transform of the ACVF whose parametric forms are eq 18 and its Matérn
+variant. This module holds the three steps:
+
+* **Estimate** (:func:`periodogram`): a prewhitened periodogram of the form-removed heights,
+  holes allowed. A real surface holds most of its variance at the longest wavelengths (on
+  ``data/sample-land.x3p``, 127 um^2 after the cylinder, 7.4 um^2 after an 80 um L-filter), and
+  the steps that a mean fill makes at the holes (and, less, the window's sidelobes) leak a
+  share of it to every frequency: the plain windowed periodogram made the L-filtered
+  simulations' Sq 4.0 um against the measured 2.7 um (5 % of the points missing). So the differences
+  of neighbouring heights along x and along y are taken first (a hole, or the edge, makes a
+  difference unmeasured), which damps the long wavelengths by :math:`4 \sin^2(\pi q \Delta)`,
+  and each is windowed and transformed: the measured points' mean is removed, the holes are set
+  to 0, and the differences are multiplied by a Tukey window (:data:`TAPER` of each side
+  tapered) and the map of measured points, :math:`u = w\,m\,d`, with :math:`P(\mathbf q) =
+  \Delta y \Delta x\,|\mathrm{DFT}(u)|^2 / \sum w^2 m`. The two are summed and divided by
+  their summed transmission: :math:`C = (P_x + P_y) / (4 \sin^2(\pi q_x \Delta x) + 4
+  \sin^2(\pi q_y \Delta y))` (0 at zero frequency). Prewhitening has its own leak, the other
+  way: where the PSD is flat at the lowest frequencies (eq 18 below :math:`1/\lambda`), the
+  differences hold little there, and the leak from higher frequencies, divided by the small
+  transmission, raised the lowest rings (the simulations' Sal 5.8 um against the measured 4.4
+  um). Both leaks only add power, so :func:`estimate` keeps, in each bin of the smoothed
+  table, the lower of the plain and the prewhitened estimates where one is more than twice the
+  other (:data:`LEAK_RATIO`), and their mean elsewhere: the lower of two noisy estimates of
+  the same value is biased low (by 5 % of the variance on eq 18 surfaces, which the scaling to
+  the measured variance then moved into the filters' pass band: the L-filtered simulations'
+  Sq 2-3 % above the measured). The table is then scaled to the
+  measured heights' variance (:func:`~roughgp.surface_models.fit.fit_psd_model`).
+* **Smooth and store** (:func:`log_polar_table`): each ordinate goes to a bin of
+  :data:`N_RADII` logarithmic radial bins from the fundamental frequency (the lowest non-zero
+  :math:`|\mathbf q|` of the grid) to the grid's corner frequency and :data:`N_ANGLES`
+  angular bins of :math:`\arg \mathbf q` modulo 180 degrees (:math:`C(\mathbf q) = C(-\mathbf
+  q)` for real heights); a bin's value is the mean of its ordinates (a Daniell smoother whose
+  width grows with :math:`|\mathbf q|`: the raw periodogram has a relative error of 100 % per
+  ordinate; a bin of :math:`n` ordinates has about :math:`1/\sqrt{n}`, and keeps the
+  anisotropy in 5-degree steps). Where a bin holds fewer than :data:`MIN_ORDINATES` ordinates
+  (the lowest rings: few grid frequencies lie there), its average takes in neighbouring rings
+  first (up to three each way) and then neighbouring angles until it holds that many: radial
+  before angular, because the PSD changes slowly with log frequency there while the lay's
+  direction is what Str and Std measure. A bin with no ordinate takes the value interpolated
+  along its ring (periodic in angle), or, for a ring with none, from the neighbouring rings.
+  40 x 36 numbers in the file, whatever the map's size.
+* **Draw** (:func:`psd_at`, :func:`synthesize`): the table is interpolated bilinearly in
+  (log frequency, angle) on the log of the PSD. The field is drawn by spectral synthesis on a
+  torus of about twice the field's size along each axis (:func:`torus_shape`) and cropped, so
+  the field is not periodic (the torus's covariance wraps only at lags beyond the field). The
+  torus has frequencies below the measured band (wavelengths longer than the field): they are
+  given the table's lowest ring (a flat PSD below the band, the roll-off of a stationary
+  surface such as eq 18's); frequencies above the table's corner (a finer spacing than
+  measured) get none, so the surface invents no roughness below the measured spacing. The
+  torus's variance is :math:`\sum C\,\Delta q`, the table's variance plus that of the flat
+  extension; the F-operator of the rest of the chain removes most of the extension again
+  (:mod:`roughgp.checking.model_check` compares like with like).
+
+The ACVF (:func:`acvf_grid`) is the inverse DFT of the same PSD on a torus, the covariance of
+the synthesised field itself.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import scipy.fft
+import scipy.signal.windows
+
+__all__ = ["N_RADII", "N_ANGLES", "TAPER", "MIN_ORDINATES", "LEAK_RATIO", "estimate", "periodogram",
+           "log_polar_table",
+           "psd_at",
+           "torus_shape", "MAX_TORUS_POINTS", "synthesize", "population_slices", "acvf_grid",
+           "table_variance"]
+
+N_RADII = 40  #: logarithmic radial bins of the stored PSD
+N_ANGLES = 36  #: angular bins of the stored PSD (5 degrees each, over 180)
+MIN_ORDINATES = 8  #: ordinates a bin's value averages at least (4 independent: +-50 %)
+LEAK_RATIO = 2.0  #: one estimate this many times the other: the higher one is taken to leak
+TAPER = 0.25  #: share of each axis tapered by the Tukey window (half at each end)
+_FLOOR = 1e-12  #: relative floor under the PSD before its log is interpolated
+
+
+def _windowed_periodogram(h, spacing):
+    """The Tukey-windowed periodogram of ``h`` (NaN where unmeasured, mean-filled), normalised
+    by the window's weight over the measured points."""
+    (ny, nx), (dy, dx) = h.shape, spacing
+    measured = np.isfinite(h)
+    window = (scipy.signal.windows.tukey(ny, TAPER)[:, None]
+              * scipy.signal.windows.tukey(nx, TAPER)[None, :]) * measured
+    weight = float(np.sum(window ** 2))
+    if not weight > 0:
+        raise ValueError("no measured point lies inside the PSD's window")
+    mean = float(np.sum(window ** 2 * np.where(measured, h, 0.0)) / weight)
+    u = window * np.where(measured, h - mean, 0.0)
+    return dy * dx * np.abs(scipy.fft.fft2(u)) ** 2 / weight
+
+
+def estimate(h, spacing):
+    """``(table, f_min, f_max)``: the smoothed log-polar PSD of heights ``h`` (NaN where
+    unmeasured): in each bin the mean of the plain and the prewhitened estimates, or the lower
+    where one exceeds the other :data:`LEAK_RATIO` times (:func:`periodogram`,
+    :func:`log_polar_table`; module docstring)."""
+    plain = log_polar_table(*periodogram(h, spacing, prewhiten=False))
+    whitened = log_polar_table(*periodogram(h, spacing))
+    a, b = plain[0], whitened[0]
+    leak = (a > LEAK_RATIO * b) | (b > LEAK_RATIO * a)
+    return np.where(leak, np.minimum(a, b), 0.5 * (a + b)), plain[1], plain[2]
+
+
+def periodogram(h, spacing, prewhiten=True):
+    r"""``(qy, qx, C)``: the prewhitened, windowed 2-D periodogram of heights ``h`` (NaN where
+    unmeasured) on the DFT's frequencies (1/um, FFT order) and its values (um^4; module
+    docstring): the periodograms of the differences along x and along y, summed and divided
+    by the differences' summed transmission :math:`4 \sin^2(\pi q_x \Delta x) + 4
+    \sin^2(\pi q_y \Delta y)`; ``prewhiten=False``: the windowed periodogram of the heights
+    themselves."""
+    h = np.asarray(h, dtype=np.float64)
+    (ny, nx), (dy, dx) = h.shape, spacing
+    measured = np.isfinite(h)
+    if measured.sum() < 16 or min(h.shape) < 4:
+        raise ValueError(f"the PSD needs at least 16 measured points on a grid of at least "
+                         f"4 x 4, got {measured.sum()} on {h.shape}")
+    qy, qx = scipy.fft.fftfreq(ny, dy), scipy.fft.fftfreq(nx, dx)
+    if not prewhiten:
+        return qy, qx, _windowed_periodogram(h, spacing)
+    along_x = np.pad(np.diff(h, axis=1), ((0, 0), (0, 1)), constant_values=np.nan)
+    along_y = np.pad(np.diff(h, axis=0), ((0, 1), (0, 0)), constant_values=np.nan)
+    gain_x = np.broadcast_to(4 * np.sin(np.pi * qx * dx)[None, :] ** 2, h.shape)
+    gain_y = np.broadcast_to(4 * np.sin(np.pi * qy * dy)[:, None] ** 2, h.shape)
+    c = _windowed_periodogram(along_x, spacing) + _windowed_periodogram(along_y, spacing)
+    gain = gain_x + gain_y
+    with np.errstate(invalid="ignore", divide="ignore"):
+        c = np.where(gain > 0, c / gain, 0.0)
+    return qy, qx, c
+
+
+def _polar(qy, qx):
+    qy, qx = np.meshgrid(qy, qx, indexing="ij")
+    return np.hypot(qy, qx), np.mod(np.arctan2(qy, qx), math.pi)
+
+
+def log_polar_table(qy, qx, c, n_radii=N_RADII, n_angles=N_ANGLES):
+    """``(table, f_min, f_max)``: the periodogram ``c`` on ``(qy, qx)`` averaged in
+    ``n_radii`` x ``n_angles`` log-polar bins from the fundamental ``f_min`` to the corner
+    ``f_max`` (1/um); empty bins interpolated (module docstring)."""
+    r, theta = _polar(qy, qx)
+    keep = r > 0
+    r, theta, c = r[keep], theta[keep], np.asarray(c)[keep]
+    f_min, f_max = float(r.min()), float(r.max())
+    step = math.log(f_max / f_min) / n_radii
+    ir = np.clip(((np.log(r) - math.log(f_min)) / step).astype(int), 0, n_radii - 1)
+    ia = np.clip((theta / (math.pi / n_angles)).astype(int), 0, n_angles - 1)
+    flat = ir * n_angles + ia
+    sums = np.bincount(flat, weights=c, minlength=n_radii * n_angles).reshape(n_radii, -1)
+    counts = np.bincount(flat, minlength=n_radii * n_angles).reshape(n_radii, -1)
+    sums, counts = _widen(sums, counts)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        table = sums / counts
+    return _fill_empty(table), f_min, f_max
+
+
+#: the windows a bin's average may grow through, (radial, angular) half-widths in bins:
+#: first along the radius (the PSD changes slowly with log frequency at the lowest rings, where
+#: bins are few), then along the angle, keeping the anisotropy as long as possible
+_WINDOWS = tuple((hr, 0) for hr in range(4)) + tuple((3, ha) for ha in range(1, N_ANGLES // 2 + 1))
+
+
+def _windowed(values, hr, ha):
+    n_radii, n_angles = values.shape
+    padded = np.pad(values, ((hr, hr), (0, 0)))
+    rings = sum(padded[k:k + n_radii] for k in range(2 * hr + 1))
+    if 2 * ha + 1 >= n_angles:
+        return np.repeat(rings.sum(axis=1, keepdims=True), n_angles, axis=1)
+    return sum(np.roll(rings, k, axis=1) for k in range(-ha, ha + 1))
+
+
+def _widen(sums, counts):
+    """Each non-empty bin's sum and count over the first window of :data:`_WINDOWS` that holds
+    :data:`MIN_ORDINATES` ordinates (the last, three rings each way and the whole ring, where
+    none does)."""
+    out_s = np.full(sums.shape, np.nan)
+    out_c = np.zeros(sums.shape)
+    todo = counts > 0
+    for hr, ha in _WINDOWS:
+        s, c = _windowed(sums.astype(float), hr, ha), _windowed(counts.astype(float), hr, ha)
+        take = todo & ((c >= MIN_ORDINATES) | ((hr, ha) == _WINDOWS[-1]))
+        out_s[take], out_c[take] = s[take], c[take]
+        todo &= ~take
+        if not todo.any():
+            break
+    return out_s, out_c
+
+
+def _fill_empty(table):
+    """Empty bins (NaN) from their ring (periodic in angle), then rings from their
+    neighbours."""
+    table = table.copy()
+    n_radii, n_angles = table.shape
+    angles = np.arange(n_angles)
+    full = np.zeros(n_radii, dtype=bool)
+    for i, ring in enumerate(table):
+        have = np.isfinite(ring)
+        if have.any():
+            table[i] = np.interp(angles, angles[have], ring[have], period=n_angles)
+            full[i] = True
+    radii = np.arange(n_radii)
+    for j in range(n_angles):
+        table[~full, j] = np.interp(radii[~full], radii[full], table[full, j])
+    return table
+
+
+def psd_at(table, f_min, f_max, qy, qx):
+    """The stored PSD at the frequencies ``qy`` x ``qx`` (1-D axes, 1/um): bilinear in (log
+    frequency, angle) on the log PSD; the lowest ring below the band, 0 above ``f_max`` and
+    at zero frequency (module docstring)."""
+    table = np.asarray(table, dtype=np.float64)
+    n_radii, n_angles = table.shape
+    log_table = np.log(np.maximum(table, _FLOOR * table.max()))
+    r, theta = _polar(qy, qx)
+    step = math.log(f_max / f_min) / n_radii
+    with np.errstate(divide="ignore"):
+        u = np.clip((np.log(r) - math.log(f_min)) / step - 0.5, 0.0, n_radii - 1.0)
+    v = theta / (math.pi / n_angles) - 0.5
+    i0 = np.minimum(np.floor(u).astype(int), n_radii - 2) if n_radii > 1 else \
+        np.zeros(u.shape, int)
+    a = u - i0
+    j0 = np.floor(v).astype(int)
+    b = v - j0
+    j0, j1 = np.mod(j0, n_angles), np.mod(j0 + 1, n_angles)
+    i1 = np.minimum(i0 + 1, n_radii - 1)
+    value = ((1 - a) * ((1 - b) * log_table[i0, j0] + b * log_table[i0, j1])
+             + a * ((1 - b) * log_table[i1, j0] + b * log_table[i1, j1]))
+    out = np.exp(value)
+    out[(r == 0) | (r > f_max * (1 + 1e-9))] = 0.0
+    return out
+
+
+#: the most points of the torus a field is drawn on
+MAX_TORUS_POINTS = 1 << 26
+
+
+def torus_shape(shape, spacing, f_min):
+    """The torus a field of ``shape`` at ``spacing`` is drawn on: each side at least twice the
+    field's and twice the longest measured wavelength ``1 / f_min`` (so that a small field
+    still has the measured band's variance), FFT-friendly; a ``ValueError`` beyond
+    :data:`MAX_TORUS_POINTS`."""
+    torus = tuple(int(scipy.fft.next_fast_len(max(2 * n, math.ceil(2.0 / (f_min * d))),
+                                              real=True)) for n, d in zip(shape, spacing))
+    if math.prod(torus) > MAX_TORUS_POINTS:
+        raise ValueError(f"drawing {shape[0]} x {shape[1]} points at a spacing of {spacing[0]:g} x "
+                         f"{spacing[1]:g} um from this PSD needs a torus of {torus[0]} x "
+                         f"{torus[1]} points, more than {MAX_TORUS_POINTS} (2**26): draw a "
+                         f"smaller field or at a coarser spacing")
+    return torus
+
+
+def _amplitude(table, f_min, f_max, torus, spacing):
+    (my, mx), (dy, dx) = torus, spacing
+    c = psd_at(table, f_min, f_max, scipy.fft.fftfreq(my, dy), scipy.fft.rfftfreq(mx, dx))
+    return np.sqrt(c / (dy * dx))
+
+
+def synthesize(table, f_min, f_max, shape, spacing, rng, n_samples=1, transform=None):
+    """``n_samples`` fields of ``shape`` drawn from the PSD table by spectral synthesis on a
+    torus (:func:`torus_shape`), cropped: Gaussian, mean 0, the torus's variance
+    :math:`\\sum C \\Delta q` (module docstring); ``transform``, when given, is applied to
+    each torus field before the crop. Returns ``(n_samples, ny, nx)``."""
+    torus = torus_shape(shape, spacing, f_min)
+    amplitude = _amplitude(table, f_min, f_max, torus, spacing)
+    out = np.empty((n_samples, *shape))
+    for k in range(n_samples):
+        white = rng.standard_normal(torus)
+        field = scipy.fft.irfft2(scipy.fft.rfft2(white) * amplitude, s=torus)
+        if transform is not None:  # on a population of twice the field's points
+            field = transform(field[population_slices(shape)])
+        out[k] = field[:shape[0], :shape[1]]
+    return out
+
+
+def population_slices(shape):
+    r"""The region a rank remap is made on before the field of ``shape`` is cropped from it:
+    :math:`\lceil\sqrt 2\,n\rceil` points along each side, twice the field's points
+    (:mod:`roughgp.surface_models.iaaft`)."""
+    return tuple(slice(0, math.ceil(math.sqrt(2.0) * n)) for n in shape)
+
+
+def acvf_grid(table, f_min, f_max, shape, spacing):
+    """The ACVF of the synthesised field at the lags of a grid: ``acvf[jy, jx]`` for lags
+    ``(jy dy, jx dx)`` (FFT order, negative lags wrapped) on the torus of a field of
+    ``shape`` (:func:`torus_shape`), um^2: the inverse DFT of the PSD."""
+    torus = torus_shape(shape, spacing, f_min)
+    amplitude = _amplitude(table, f_min, f_max, torus, spacing)
+    return scipy.fft.irfft2(amplitude ** 2, s=torus)
+
+
+def table_variance(table, f_min, f_max, spacing, shape):
+    """The variance of the table over the measured band on the DFT grid of a field of
+    ``shape``: :math:`\\sum C \\Delta q` over the frequencies from ``f_min`` on (um^2)."""
+    (ny, nx), (dy, dx) = shape, spacing
+    c = psd_at(table, f_min, f_max, scipy.fft.fftfreq(ny, dy), scipy.fft.fftfreq(nx, dx))
+    return float(c.sum() / (ny * dy * nx * dx))

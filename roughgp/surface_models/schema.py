@@ -1,0 +1,342 @@
+"""The model file's schema, validated once (beyond the paper).
+
+Every command that reads a model file (``roughgp simulate --from``, ``check``, ``fill
+--model``) reads it through :meth:`roughgp.surface_models.model.FittedModel.load`, which
+calls :func:`validate_record` on the parsed JSON before anything is built from it, and every
+:class:`~roughgp.surface_models.model.FittedModel` checks its fields with
+:func:`check_fields`. A file is refused, with a message that names the field and the allowed
+range, when it is larger than :data:`MAX_FILE_BYTES`, nested deeper than :data:`MAX_DEPTH`, of
+another format or version, lacks a required field or has one this version does not know, or
+holds a value of the wrong type (``true`` is not a number, ``"25"`` is not a length) or out of
+its range (:data:`RANGES`).
+"""
+
+from __future__ import annotations
+
+import math
+
+__all__ = ["ModelFileError", "MODEL_FORMAT", "MODEL_VERSIONS", "STAGES", "EQUATIONS", "RANGES",
+           "MAX_DEPTH", "MAX_FILE_BYTES", "MAX_MIXTURES", "MAX_SM2D_COMPONENTS",
+           "SM2D_BANDWIDTHS", "FORMS", "AXES", "validate_record",
+           "check_fields"]
+
+MODEL_FORMAT = "roughgp-model"
+#: versions read: 1 (no stage: its models describe the filtered heights) and 2
+MODEL_VERSIONS = (1, 2)
+#: the stages of the operator chain a model may describe
+STAGES = ("form-removed", "filtered")
+#: equation -> (kind, the hyperparameters it needs, with their units in the names)
+EQUATIONS = {
+    "eq18": ("surface", ("variance_um2", "lambda_a_um", "lambda_b_um", "angle_deg",
+                         "noise_variance_um2")),
+    "eq18-matern": ("surface", ("variance_um2", "lambda_a_um", "lambda_b_um", "angle_deg",
+                                "noise_variance_um2", "nu")),
+    "eq21": ("profile", ("weights_um2", "frequencies_per_um", "spectral_variances_per_um2",
+                         "noise_variance_um2")),
+    "measured-psd": ("surface", ("psd_um4", "frequency_min_per_um", "frequency_max_per_um",
+                                 "noise_variance_um2")),
+    "sm2d": ("surface", ("weights_um2", "frequencies_x_per_um", "frequencies_y_per_um",
+                         "bandwidths_a_per_um", "bandwidths_b_per_um", "axes_deg",
+                         "noise_variance_um2")),
+}
+#: the 2-D spectral mixture's most components (its fit tries 4 by default)
+MAX_SM2D_COMPONENTS = 8
+#: its bandwidths' allowed range, in units of the Nyquist frequency 1 / (2 spacing): at least
+#: 1e-4 (a correlation over some 10^4 points, what a circulant embedding can still hold)
+SM2D_BANDWIDTHS = (1e-4, 4.0)
+#: the IAAFT marginal's allowed number of quantiles and of iterations
+QUANTILES = (3, 2001)
+ITERATIONS = (1, 1000)
+#: the log-polar PSD table's allowed size: radial bins, angular bins
+PSD_RADII = (4, 128)
+PSD_ANGLES = (1, 180)
+OPTIONAL_HYPERPARAMETERS = ("mean_um",)
+MAX_MIXTURES = 50
+MAX_DEPTH = 8
+MAX_FILE_BYTES = 1 << 20
+MAX_OPERATORS = 16
+FORMS = ("plane", "polynomial", "cylinder", None)
+AXES = ("auto", "x", "y")
+#: name -> (low, high, low included): the allowed range of each number (um, um^2, deg, 1/um)
+RANGES = {
+    "spacing_um": (0.0, 1e6, False),
+    "variance_um2": (0.0, 1e12, False),
+    "weights_um2": (0.0, 1e12, False),
+    "noise_variance_um2": (0.0, 1e12, True),
+    "lambda_a_um": (0.0, 1e9, False),
+    "lambda_b_um": (0.0, 1e9, False),
+    "angle_deg": (-360.0, 360.0, True),
+    "frequencies_per_um": (0.0, 1e9, True),
+    "spectral_variances_per_um2": (0.0, 1e18, False),
+    "mean_um": (-1e9, 1e9, True),
+    "skewness": (-100.0, 100.0, True),
+    "kurtosis": (1.0, 1e6, False),
+    "s_um": (0.0, 1e9, False),
+    "l_um": (0.0, 1e9, False),
+    "degree": (0, 10, True),
+    "psd_um4": (0.0, 1e30, True),
+    "quantiles_um": (-1e9, 1e9, True),
+    "tail_probability": (0.0, 0.25, False),
+    "frequency_min_per_um": (0.0, 1e9, False),
+    "frequency_max_per_um": (0.0, 1e9, False),
+    "frequencies_x_per_um": (-1e9, 1e9, True),
+    "frequencies_y_per_um": (-1e9, 1e9, True),
+    "bandwidths_a_per_um": (0.0, 1e9, False),
+    "bandwidths_b_per_um": (0.0, 1e9, False),
+    "axes_deg": (-360.0, 360.0, True),
+}
+_TOP = {"format", "version", "equation", "kind", "stage", "description", "hyperparameters",
+        "spacing_um", "marginal", "operators", "cutoffs", "data", "fit", "roughgp_version"}
+_REQUIRED = ("format", "version", "equation", "hyperparameters", "spacing_um")
+
+
+class ModelFileError(ValueError):
+    """A model file that is not a roughgp model, of another version, or incomplete."""
+
+
+def _is_number(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def number(name, value, *, where=None):
+    """``value`` as a float, refused unless it is a number (not a bool, not a string) within
+    ``RANGES[name]``."""
+    label = where or name
+    if not _is_number(value) and not _numpy_number(value):
+        raise ModelFileError(f"{label} must be a number, got {value!r}")
+    value = float(value)
+    low, high, closed = RANGES[name]
+    if not math.isfinite(value) or value > high or value < low or (value == low and not closed):
+        bracket = "[" if closed else "("
+        raise ModelFileError(f"{label} must be a finite number in {bracket}{low:g}, {high:g}], "
+                             f"got {value!r}")
+    return value
+
+
+def _numpy_number(value) -> bool:
+    import numpy as np
+    return isinstance(value, np.number) and not isinstance(value, np.bool_)
+
+
+def _numbers(name, values, count=None):
+    if hasattr(values, "tolist"):
+        values = values.tolist()
+    if not isinstance(values, (list, tuple)) or not values:
+        raise ModelFileError(f"{name} must be a non-empty list of numbers, got {values!r}")
+    if count is not None and len(values) not in count:
+        raise ModelFileError(f"{name} must hold {' or '.join(map(str, count))} values, got "
+                             f"{len(values)}")
+    return [number(name, v, where=f"{name}[{i}]") for i, v in enumerate(values)]
+
+
+def _depth(value, level=1):
+    if level > MAX_DEPTH:
+        raise ModelFileError(f"the model file is nested deeper than {MAX_DEPTH} levels")
+    if isinstance(value, dict):
+        for v in value.values():
+            _depth(v, level + 1)
+    elif isinstance(value, list):
+        for v in value:
+            _depth(v, level + 1)
+
+
+def check_fields(equation, hyperparameters, spacing, marginal, cutoffs, stage, operators=()):
+    """The fields of a model (file or object): types, names and ranges (module docstring)."""
+    if not isinstance(equation, str) or equation not in EQUATIONS:
+        raise ModelFileError(f"equation must be one of {sorted(EQUATIONS)}, got {equation!r}")
+    if not isinstance(stage, str) or stage not in STAGES:
+        raise ModelFileError(f"stage must be one of {list(STAGES)}, got {stage!r}")
+    kind, names = EQUATIONS[equation]
+    if not isinstance(hyperparameters, dict):
+        raise ModelFileError(f"hyperparameters must be an object, got {hyperparameters!r}")
+    missing = [n for n in names if n not in hyperparameters]
+    if missing:
+        raise ModelFileError(f"the {equation} model lacks {', '.join(missing)}")
+    extra = sorted(set(hyperparameters) - set(names) - set(OPTIONAL_HYPERPARAMETERS))
+    if extra:
+        raise ModelFileError(f"the {equation} model has unknown hyperparameters "
+                             f"{', '.join(map(str, extra))} (it takes {', '.join(names)})")
+    hp = hyperparameters
+    spacing = _numbers("spacing_um", spacing, count=(2 if kind == "surface" else 1,))
+    number("noise_variance_um2", hp["noise_variance_um2"])
+    if "mean_um" in hp:
+        number("mean_um", hp["mean_um"])
+    if equation == "measured-psd":
+        _check_psd(hp)
+    elif equation == "sm2d":
+        _check_sm2d(hp, spacing)
+    elif kind == "surface":
+        for name in ("variance_um2", "lambda_a_um", "lambda_b_um", "angle_deg"):
+            number(name, hp[name])
+        for name in ("lambda_a_um", "lambda_b_um"):
+            if not 1e-3 * min(spacing) <= hp[name] <= 1e7 * max(spacing):
+                raise ModelFileError(f"{name} must be within [1e-3, 1e7] spacings "
+                                     f"([{1e-3 * min(spacing):g}, {1e7 * max(spacing):g}] um), "
+                                     f"got {hp[name]!r}")
+        if equation == "eq18-matern" and (not _is_number(hp["nu"]) or hp["nu"] not in (1.5, 2.5)):
+            raise ModelFileError(f"nu must be 1.5 or 2.5 (0.5 is eq 18), got {hp['nu']!r}")
+    else:
+        lists = [_numbers(n, hp[n], count=range(1, MAX_MIXTURES + 1)) for n in names[:3]]
+        if len({len(v) for v in lists}) != 1:
+            raise ModelFileError("weights_um2, frequencies_per_um and "
+                                 "spectral_variances_per_um2 must have the same length")
+    if isinstance(marginal, dict) and marginal.get("method") == "iaaft":
+        _check_iaaft(marginal)
+    elif marginal is not None:
+        if not isinstance(marginal, dict) or set(marginal) != {"skewness", "kurtosis"}:
+            raise ModelFileError(f"marginal must be null, {{\"skewness\": s, \"kurtosis\": k}} "
+                                 f"(Johnson) or {{\"method\": \"iaaft\", \"quantiles_um\": "
+                                 f"[...], \"tail_probability\": p, \"iterations\": n}}, "
+                                 f"got {marginal!r:.200}")
+        s, k = number("skewness", marginal["skewness"]), number("kurtosis", marginal["kurtosis"])
+        if not k > s * s + 1:
+            raise ModelFileError(f"marginal kurtosis must be > skewness**2 + 1, got {marginal!r}")
+    _check_cutoffs(cutoffs)
+    if not isinstance(operators, (list, tuple)) or len(operators) > MAX_OPERATORS or \
+            not all(isinstance(op, str) and len(op) <= 200 for op in operators):
+        raise ModelFileError(f"operators must be a list of at most {MAX_OPERATORS} short "
+                             f"strings, got {operators!r}")
+
+
+def _check_iaaft(marginal):
+    """The IAAFT marginal: ``QUANTILES`` non-decreasing heights (um), not all equal, and an
+    iteration count in ``ITERATIONS``."""
+    extra = sorted(set(marginal) - {"method", "quantiles_um", "tail_probability", "iterations",
+                                    "above_l_um"})
+    missing = sorted({"quantiles_um", "tail_probability", "iterations"} - set(marginal))
+    if extra or missing:
+        raise ModelFileError("the iaaft marginal takes method, quantiles_um, tail_probability "
+                             "and iterations"
+                             + (f"; unknown {', '.join(map(str, extra))}" if extra else "")
+                             + (f"; lacks {', '.join(missing)}" if missing else ""))
+    q = marginal["quantiles_um"]
+    if not isinstance(q, (list, tuple)) or not QUANTILES[0] <= len(q) <= QUANTILES[1]:
+        raise ModelFileError(f"quantiles_um must be a list of {QUANTILES[0]} to {QUANTILES[1]} "
+                             f"heights (um), got {type(q).__name__}"
+                             + (f" of {len(q)}" if isinstance(q, (list, tuple)) else ""))
+    q = _numbers("quantiles_um", q)
+    if any(b < a for a, b in zip(q, q[1:])) or not q[-1] > q[0]:
+        raise ModelFileError("quantiles_um must be non-decreasing and not all equal (the "
+                             "quantile function of the heights)")
+    number("tail_probability", marginal["tail_probability"], where="marginal tail_probability")
+    if "above_l_um" in marginal:
+        number("l_um", marginal["above_l_um"], where="marginal above_l_um")
+    n = marginal["iterations"]
+    if not isinstance(n, int) or isinstance(n, bool) or not ITERATIONS[0] <= n <= ITERATIONS[1]:
+        raise ModelFileError(f"marginal iterations must be an integer in [{ITERATIONS[0]}, "
+                             f"{ITERATIONS[1]}], got {n!r}")
+
+
+def _check_psd(hp):
+    """The measured-psd model's table: a list of ``PSD_RADII`` rows of ``PSD_ANGLES`` numbers
+    >= 0, not all 0, over frequencies ``frequency_min_per_um`` < ``frequency_max_per_um``."""
+    rows = hp["psd_um4"]
+    if not isinstance(rows, list) or not PSD_RADII[0] <= len(rows) <= PSD_RADII[1]:
+        raise ModelFileError(f"psd_um4 must be a list of {PSD_RADII[0]} to {PSD_RADII[1]} rows "
+                             f"(radial bins), got {type(rows).__name__}"
+                             + (f" of {len(rows)}" if isinstance(rows, list) else ""))
+    width = len(rows[0]) if isinstance(rows[0], list) else None
+    if width is None or not PSD_ANGLES[0] <= width <= PSD_ANGLES[1]:
+        raise ModelFileError(f"psd_um4 rows must be lists of {PSD_ANGLES[0]} to {PSD_ANGLES[1]} "
+                             f"numbers (angular bins), got {rows[0]!r:.60}")
+    total = 0.0
+    for i, row in enumerate(rows):
+        if not isinstance(row, list) or len(row) != width:
+            raise ModelFileError(f"psd_um4[{i}] must be a list of {width} numbers like row 0")
+        total += sum(number("psd_um4", v, where=f"psd_um4[{i}][{j}]") for j, v in enumerate(row))
+    if not total > 0:
+        raise ModelFileError("psd_um4 must hold at least one value > 0")
+    low = number("frequency_min_per_um", hp["frequency_min_per_um"])
+    high = number("frequency_max_per_um", hp["frequency_max_per_um"])
+    if not low < high:
+        raise ModelFileError(f"frequency_min_per_um must be smaller than frequency_max_per_um, "
+                             f"got {low:g} and {high:g}")
+
+
+def _check_sm2d(hp, spacing):
+    """The 2-D spectral mixture: lists of 1 to :data:`MAX_SM2D_COMPONENTS` numbers of one
+    length, each frequency within the Nyquist frequency of its axis at ``spacing`` (dy, dx), each
+    bandwidth within :data:`SM2D_BANDWIDTHS` times the Nyquist frequency."""
+    names = EQUATIONS["sm2d"][1][:6]
+    lists = {n: _numbers(n, hp[n], count=range(1, MAX_SM2D_COMPONENTS + 1)) for n in names}
+    if len({len(v) for v in lists.values()}) != 1:
+        raise ModelFileError(f"{', '.join(names)} must have the same length")
+    nyquist = {"frequencies_y_per_um": 0.5 / spacing[0], "frequencies_x_per_um": 0.5 / spacing[1]}
+    for name, limit in nyquist.items():
+        for i, f in enumerate(lists[name]):
+            if abs(f) > limit * (1 + 1e-9):
+                raise ModelFileError(f"{name}[{i}] must be within the Nyquist frequency "
+                                     f"[-{limit:g}, {limit:g}] 1/um of the spacing, got {f!r}")
+    top = 0.5 / min(spacing)
+    low, high = SM2D_BANDWIDTHS[0] * 0.5 / max(spacing), SM2D_BANDWIDTHS[1] * top
+    for name in ("bandwidths_a_per_um", "bandwidths_b_per_um"):
+        for i, b in enumerate(lists[name]):
+            if not low <= b <= high:
+                raise ModelFileError(f"{name}[{i}] must be within [{low:g}, {high:g}] 1/um "
+                                     f"({SM2D_BANDWIDTHS[0]:g} to {SM2D_BANDWIDTHS[1]:g} times "
+                                     f"the Nyquist frequency), got {b!r}")
+
+
+def _check_cutoffs(cutoffs):
+    if not isinstance(cutoffs, dict):
+        raise ModelFileError(f"cutoffs must be an object, got {cutoffs!r}")
+    extra = sorted(set(cutoffs) - {"form", "s_um", "l_um", "degree", "axis"})
+    if extra:
+        raise ModelFileError(f"cutoffs has unknown fields {', '.join(map(str, extra))} (it takes "
+                             f"form, s_um, l_um, degree, axis)")
+    form = cutoffs.get("form", "plane")
+    if form not in FORMS:
+        raise ModelFileError(f"cutoffs.form must be one of {list(FORMS)}, got {form!r}")
+    s, l = (None if cutoffs.get(n) is None else number(n, cutoffs[n], where=f"cutoffs.{n}")
+            for n in ("s_um", "l_um"))
+    if s is not None and l is not None and not s < l:
+        raise ModelFileError(f"cutoffs.s_um must be smaller than cutoffs.l_um, got {s:g} and "
+                             f"{l:g}")
+    if "degree" in cutoffs:
+        degree = cutoffs["degree"]
+        if not isinstance(degree, int) or isinstance(degree, bool) or not 0 <= degree <= 10:
+            raise ModelFileError(f"cutoffs.degree must be an integer in [0, 10], got {degree!r}")
+    if cutoffs.get("axis", "auto") not in AXES:
+        raise ModelFileError(f"cutoffs.axis must be one of {list(AXES)}, got "
+                             f"{cutoffs.get('axis')!r}")
+
+
+def validate_record(values, source="the model") -> dict:
+    """The parsed JSON of a model file, checked (module docstring); returns the fields for
+    :class:`~roughgp.surface_models.model.FittedModel` (``stage`` of a version-1 file:
+    ``"filtered"``)."""
+    if not isinstance(values, dict) or values.get("format") != MODEL_FORMAT:
+        raise ModelFileError(f"{source} is not a roughgp model file (no \"format\": "
+                             f"\"{MODEL_FORMAT}\"; write one with roughgp fit ... --out)")
+    version = values.get("version")
+    if not isinstance(version, int) or isinstance(version, bool) or version not in MODEL_VERSIONS:
+        raise ModelFileError(f"{source} is a model file of version {version!r}; this roughgp "
+                             f"reads versions {', '.join(map(str, MODEL_VERSIONS))}")
+    _depth(values)
+    missing = [n for n in _REQUIRED + (("stage",) if version > 1 else ()) if n not in values]
+    if missing:
+        raise ModelFileError(f"{source} lacks the field(s) {', '.join(missing)}")
+    extra = sorted(set(values) - _TOP)
+    if extra:
+        raise ModelFileError(f"{source} has unknown field(s) {', '.join(map(str, extra))}")
+    for name in ("data", "fit", "cutoffs"):
+        if not isinstance(values.get(name, {}), dict):
+            raise ModelFileError(f"{source}: {name} must be an object, got {values[name]!r}")
+    for name in ("description", "roughgp_version", "kind"):
+        if name in values and not isinstance(values[name], str):
+            raise ModelFileError(f"{source}: {name} must be a string, got {values[name]!r}")
+    fields = {"equation": values["equation"], "hyperparameters": values["hyperparameters"],
+              "spacing": values["spacing_um"], "marginal": values.get("marginal"),
+              "cutoffs": values.get("cutoffs", {}), "operators": values.get("operators", []),
+              "stage": values["stage"] if version > 1 else "filtered"}
+    try:
+        check_fields(**fields)
+    except ModelFileError as exc:
+        raise ModelFileError(f"{source}: {exc}") from None
+    if "kind" in values and values["kind"] != EQUATIONS[values["equation"]][0]:
+        raise ModelFileError(f"{source}: kind {values['kind']!r} does not match the equation "
+                             f"{values['equation']} ({EQUATIONS[values['equation']][0]})")
+    return {**fields, "spacing": tuple(float(v) for v in values["spacing_um"]),
+            "operators": tuple(fields["operators"]), "hyperparameters": dict(fields[
+                "hyperparameters"]), "cutoffs": dict(fields["cutoffs"]),
+            "data": dict(values.get("data", {})), "fit": dict(values.get("fit", {}))}

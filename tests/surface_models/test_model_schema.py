@@ -1,0 +1,158 @@
+"""The model file's schema (roughgp.surface_models.schema): every field refused when of the
+wrong type, out of range, missing, unknown or nested too deep, with a message naming it."""
+
+from __future__ import annotations
+
+import copy
+import json
+
+import pytest
+
+from roughgp.surface_models.model import FittedModel, ModelFileError
+from roughgp.surface_models.schema import MAX_FILE_BYTES
+
+EQ18 = FittedModel("eq18", {"variance_um2": 2.0, "lambda_a_um": 12.0, "lambda_b_um": 3.0,
+                            "angle_deg": 60.0, "noise_variance_um2": 0.05, "mean_um": 0.1},
+                   (1.0, 1.0), marginal={"skewness": 0.5, "kurtosis": 4.0},
+                   operators=("F: plane", "L: Gaussian 25 um"),
+                   cutoffs={"form": "plane", "s_um": None, "l_um": 25.0, "degree": 2,
+                            "axis": "auto"}, data={"file": "x.x3p"}, fit={"seed": 0})
+EQ21 = FittedModel("eq21", {"weights_um2": [1.0, 0.5], "frequencies_per_um": [0.1, 0.02],
+                            "spectral_variances_per_um2": [1e-4, 1e-5],
+                            "noise_variance_um2": 0.01}, (0.5,))
+
+
+def _set(record, path, value):
+    record = copy.deepcopy(record)
+    *parents, last = path
+    target = record
+    for key in parents:
+        target = target[key]
+    if value is _DELETE:
+        del target[last]
+    else:
+        target[last] = value
+    return record
+
+
+class _Delete:
+    def __repr__(self):  # a stable test id (an object's default repr carries its address)
+        return "<deleted>"
+
+
+_DELETE = _Delete()
+
+HOSTILE = [
+    # (path, value, words of the message)
+    (("format",), "roughgp-mode", "not a roughgp model file"),
+    (("version",), True, "version True"),
+    (("version",), 3, "version 3"),
+    (("version",), "2", "version '2'"),
+    (("version",), _DELETE, "version None"),
+    (("equation",), "eq99", "equation must be one of"),
+    (("equation",), ["eq18"], "equation must be one of"),
+    (("equation",), _DELETE, "lacks the field(s) equation"),
+    (("stage",), "raw", "stage must be one of"),
+    (("stage",), None, "stage must be one of"),
+    (("stage",), _DELETE, "lacks the field(s) stage"),
+    (("kind",), "profile", "does not match"),
+    (("description",), 5, "description must be a string"),
+    (("surprise",), 1, "unknown field(s) surprise"),
+    (("hyperparameters",), [1, 2], "hyperparameters must be an object"),
+    (("hyperparameters", "variance_um2"), True, "variance_um2 must be a number"),
+    (("hyperparameters", "variance_um2"), "2.0", "variance_um2 must be a number"),
+    (("hyperparameters", "variance_um2"), 0.0, "variance_um2 must be a finite number in (0"),
+    (("hyperparameters", "variance_um2"), 1e300, "variance_um2 must be a finite number"),
+    (("hyperparameters", "variance_um2"), None, "variance_um2 must be a number"),
+    (("hyperparameters", "variance_um2"), {"a": 1}, "variance_um2 must be a number"),
+    (("hyperparameters", "variance_um2"), _DELETE, "lacks variance_um2"),
+    (("hyperparameters", "noise_variance_um2"), -1.0, "noise_variance_um2 must be a finite"),
+    (("hyperparameters", "noise_variance_um2"), 1e13, "noise_variance_um2 must be a finite"),
+    (("hyperparameters", "lambda_a_um"), -1.0, "lambda_a_um must be a finite number"),
+    (("hyperparameters", "lambda_a_um"), 5e7, "lambda_a_um must be within"),
+    (("hyperparameters", "lambda_b_um"), 1e-9, "lambda_b_um must be within"),
+    (("hyperparameters", "angle_deg"), 1e4, "angle_deg must be a finite number"),
+    (("hyperparameters", "angle_deg"), False, "angle_deg must be a number"),
+    (("hyperparameters", "mean_um"), "0", "mean_um must be a number"),
+    (("hyperparameters", "nu"), 1.5, "unknown hyperparameters nu"),
+    (("spacing_um",), [1.0], "spacing_um must hold 2 values"),
+    (("spacing_um",), [1.0, 0.0], "spacing_um[1] must be a finite number in (0"),
+    (("spacing_um",), [1.0, True], "spacing_um[1] must be a number"),
+    (("spacing_um",), 1.0, "spacing_um must be a non-empty list"),
+    (("spacing_um",), _DELETE, "lacks the field(s) spacing_um"),
+    (("marginal",), {"skewness": 0.5}, "marginal must be null, "),
+    (("marginal",), {"skewness": 0.5, "kurtosis": 4.0, "x": 1}, "marginal must be null, "),
+    (("marginal", "kurtosis"), 1.1, "kurtosis must be > skewness**2 + 1"),
+    (("marginal", "skewness"), "big", "skewness must be a number"),
+    (("marginal", "kurtosis"), 1e9, "kurtosis must be a finite number"),
+    (("cutoffs",), "25", "cutoffs must be an object"),
+    (("cutoffs", "l_um"), "25 um", "cutoffs.l_um must be a number"),
+    (("cutoffs", "l_um"), -25.0, "cutoffs.l_um must be a finite number"),
+    (("cutoffs", "l_um"), True, "cutoffs.l_um must be a number"),
+    (("cutoffs", "s_um"), 30.0, "cutoffs.s_um must be smaller than cutoffs.l_um"),
+    (("cutoffs", "form"), "sphere", "cutoffs.form must be one of"),
+    (("cutoffs", "degree"), 2.5, "cutoffs.degree must be an integer"),
+    (("cutoffs", "axis"), "z", "cutoffs.axis must be one of"),
+    (("cutoffs", "lc"), 8.0, "cutoffs has unknown fields lc"),
+    (("operators",), "F: plane", "operators must be a list"),
+    (("operators",), [1], "operators must be a list"),
+    (("data",), [1], "data must be an object"),
+    (("fit",), "x", "fit must be an object"),
+    (("data", "deep"), [[[[[[[[[1]]]]]]]]], "nested deeper"),
+]
+
+
+@pytest.mark.parametrize("path, value, message", HOSTILE,
+                         ids=[f"{'.'.join(p)}={v!r}"[:40] for p, v, _ in HOSTILE])
+def test_every_field_of_a_hostile_file_is_refused_by_name(tmp_path, path, value, message):
+    record = _set(EQ18.to_dict(), path, value)
+    file = tmp_path / "m.json"
+    file.write_text(json.dumps(record))
+    with pytest.raises(ModelFileError) as info:
+        FittedModel.load(file)
+    assert message in str(info.value)
+
+
+EQ21_HOSTILE = [
+    (("hyperparameters", "weights_um2"), [], "weights_um2 must be a non-empty list"),
+    (("hyperparameters", "weights_um2"), [1.0] * 51, "weights_um2 must hold"),
+    (("hyperparameters", "weights_um2"), [1.0, 2.0, 3.0], "must have the same length"),
+    (("hyperparameters", "frequencies_per_um"), [0.1, -0.1], "frequencies_per_um[1] must be"),
+    (("hyperparameters", "spectral_variances_per_um2"), [1e-4, "x"],
+     "spectral_variances_per_um2[1] must be a number"),
+    (("spacing_um",), [0.5, 0.5], "spacing_um must hold 1 values"),
+]
+
+
+@pytest.mark.parametrize("path, value, message", EQ21_HOSTILE)
+def test_a_hostile_profile_model_is_refused_by_name(path, value, message):
+    with pytest.raises(ModelFileError) as info:
+        FittedModel.from_dict(_set(EQ21.to_dict(), path, value))
+    assert message in str(info.value)
+
+
+def test_good_files_round_trip_and_nan_or_huge_files_are_refused(tmp_path):
+    for model in (EQ18, EQ21):
+        assert FittedModel.load(model.save(tmp_path / "m.json")) == model
+    file = tmp_path / "nan.json"
+    file.write_text(json.dumps(EQ18.to_dict()).replace('"variance_um2": 2.0',
+                                                       '"variance_um2": NaN'))
+    with pytest.raises(ModelFileError, match="variance_um2 must be a finite number"):
+        FittedModel.load(file)
+    file.write_text("[" * 100000 + "]" * 100000)
+    with pytest.raises(ModelFileError, match="nested"):
+        FittedModel.load(file)
+    file.write_text(" " * (MAX_FILE_BYTES + 1))
+    with pytest.raises(ModelFileError, match="larger than a model file"):
+        FittedModel.load(file)
+
+
+def test_the_cli_refuses_a_hostile_model_with_one_line_and_exit_2(tmp_path, capsys):
+    from roughgp.cli.main import main
+    file = tmp_path / "m.json"
+    file.write_text(json.dumps(_set(EQ18.to_dict(), ("cutoffs", "l_um"), "25 um")))
+    code = main(["simulate", "--from", str(file), "--shape", "8", "8", "--seed", "0", "--out",
+                 str(tmp_path / "o.npy")])
+    err = capsys.readouterr().err
+    assert code == 2 and "cutoffs.l_um must be a number" in err and "Traceback" not in err
+    assert not (tmp_path / "o.npy").exists()
