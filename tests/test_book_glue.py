@@ -44,22 +44,38 @@ def test_notebooks_are_committed_without_outputs(path):
 HIDDEN = {"remove-input", "remove-cell", "hide-input"}
 
 
-def _is_bookkeeping(statement) -> bool:
+def _is_bookkeeping(node) -> bool:
     """An ``assert`` or a ``glue(...)`` call: what the reader need not see."""
-    if isinstance(statement, ast.Assert):
+    if isinstance(node, ast.Assert):
         return True
-    return (isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Call)
-            and isinstance(statement.value.func, ast.Name) and statement.value.func.id == "glue")
+    return (isinstance(node, ast.Call) and isinstance(node.func, ast.Name)
+            and node.func.id == "glue")
+
+
+def bookkeeping_shown(cells) -> list[str]:
+    """Where a visible code cell (not tagged remove-input, remove-cell or hide-input) holds an
+    assert or a glue call, at any depth (inside a loop or a function too)."""
+    shown = []
+    for i, c in enumerate(cells):
+        if c["cell_type"] != "code" or HIDDEN & set(c.get("metadata", {}).get("tags", [])):
+            continue
+        tree = ast.parse("".join(c["source"]))
+        shown += [f"cell {i}, line {n.lineno}" for n in ast.walk(tree) if _is_bookkeeping(n)]
+    return shown
 
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.name)
 def test_bookkeeping_stays_out_of_the_readers_way(path):
-    # a chapter's visible code cells hold no top-level glue call or assert: those go into a
-    # following cell tagged remove-input (asserts inside a loop that prints stay where they are)
-    shown = []
-    for i, c in enumerate(_cells(path)):
-        if c["cell_type"] != "code" or HIDDEN & set(c.get("metadata", {}).get("tags", [])):
-            continue
-        body = ast.parse("".join(c["source"])).body
-        shown += [f"cell {i}, line {s.lineno}" for s in body if _is_bookkeeping(s)]
+    # a chapter's visible code cells hold no glue call or assert, not even inside a loop that
+    # prints: those go into a following cell tagged remove-input
+    shown = bookkeeping_shown(_cells(path))
     assert not shown, f"glue or assert shown to the reader: {shown}"
+
+
+def test_bookkeeping_inside_a_loop_is_found():
+    cells = [{"cell_type": "code", "metadata": {}, "source": [
+                 "for k in range(3):\n", "    print(k)\n", "    assert k < 3\n",
+                 "    glue('k', k, display=False)\n"]},
+             {"cell_type": "code", "metadata": {"tags": ["remove-input"]},
+              "source": ["assert True\n"]}]
+    assert bookkeeping_shown(cells) == ["cell 0, line 3", "cell 0, line 4"]
