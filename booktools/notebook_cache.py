@@ -193,10 +193,28 @@ def execute(path: str | Path, cache: Path = CACHE, timeout: int = TIMEOUT,
     seconds = time.perf_counter() - start
     if result.error is not None:
         return Executed(path, False, seconds, result.error.trace, result)
-    store.cache_notebook_bundle(CacheBundleIn(_with_outputs(notebook, result.nb), str(path),
-                                              data={"execution_seconds": seconds}),
-                                check_validity=False, overwrite=True)
+    with _writing(cache):
+        store.cache_notebook_bundle(CacheBundleIn(_with_outputs(notebook, result.nb), str(path),
+                                                  data={"execution_seconds": seconds}),
+                                    check_validity=False, overwrite=True)
     return Executed(path, False, seconds, result=result)
+
+
+@contextlib.contextmanager
+def _writing(cache):
+    """One writer at a time (an exclusive lock on ``cache/write.lock``): jupyter-cache's
+    ``cache_notebook_bundle`` ends by pruning old records with two separate queries, so a record
+    that another test process inserts between them counts as old and is removed before its
+    notebook file is written ("Notebook file does not exist for cache record PK", seen once
+    with two test processes; jupyter-cache 1.0.1)."""
+    import fcntl
+
+    with open(Path(cache) / "write.lock", "a") as handle:
+        fcntl.flock(handle, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(handle, fcntl.LOCK_UN)
 
 
 def setup(app):

@@ -226,6 +226,16 @@ def default_cutoffs(z, spacing=1.0, *, by="Ra"):
     return Cutoffs(s_cut, l_cut, "; ".join(notes))
 
 
+def _reason_for(reason, s_auto, l_auto):
+    """The notes of :func:`default_cutoffs` about the cut-offs that were chosen automatically
+    (an L given by the caller is not explained by the default it replaced)."""
+    about_s = ("S ", "S-filter", "lambda_s")
+    kept = [part for part in reason.split("; ")
+            if (s_auto if part.startswith(about_s) else l_auto)]
+    given = [name for name, auto in (("S", s_auto), ("L", l_auto)) if not auto]
+    return "; ".join(kept + ([f"{' and '.join(given)} set by the caller"] if given else []))
+
+
 # --------------------------------------------------------------------------- the chain
 
 @dataclass(frozen=True)
@@ -290,6 +300,7 @@ def surface_texture(z, spacing=1.0, *, form="plane", s="auto", l="auto", degree=
         operators.append(f"L: {mean_line_label} {_fmt(l_cut)}")
     else:
         waviness = np.where(np.isfinite(sf), 0.0, np.nan)
-    reason = auto.reason if auto is not None else "set by the caller"
+    reason = ("set by the caller" if auto is None else
+              _reason_for(auto.reason, s == "auto", l == "auto"))
     return Texture(sf + form_part, sf, waviness, sf - waviness, fit,
                    Cutoffs(s_cut, l_cut, reason), operators)

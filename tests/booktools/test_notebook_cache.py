@@ -89,3 +89,19 @@ def test_the_kernels_share_results_inside_the_cache_and_the_test_process_does_no
                      f"assert os.environ[{ENV!r}] == {str(cache / 'results')!r}")
     assert notebook_cache.execute(path, cache).error is None
     assert ENV not in __import__("os").environ          # restored after the kernel ran
+
+
+def test_cache_writes_are_serialised(tmp_path):
+    """Two writers never prune each other's fresh record: cache_notebook_bundle runs under one
+    exclusive lock (a second process cannot take it while the first holds it)."""
+    import subprocess
+    import sys
+
+    from booktools.notebook_cache import _writing
+
+    probe = ("import fcntl, sys; h = open(sys.argv[1], 'a'); "
+             "fcntl.flock(h, fcntl.LOCK_EX | fcntl.LOCK_NB)")
+    with _writing(tmp_path):
+        held = subprocess.run([sys.executable, "-c", probe, str(tmp_path / "write.lock")])
+    free = subprocess.run([sys.executable, "-c", probe, str(tmp_path / "write.lock")])
+    assert held.returncode != 0 and free.returncode == 0

@@ -263,3 +263,14 @@ def test_drop_edge():
     m = gaussian_filter(z, 1.0, 20.0, edge="drop")
     assert np.all(np.isnan(m[:20])) and np.all(np.isnan(m[-20:]))
     assert np.allclose(m[20:-20], gaussian_filter(z, 1.0, 20.0)[20:-20])
+
+
+def test_a_given_l_is_not_explained_by_the_default_it_replaced():
+    """`texture --l-filter 250` used to print the note of the default L (80 um) it replaced."""
+    z = np.random.default_rng(0).normal(size=(96, 128))
+    t = surface_texture(z, 2.0, s="auto", l=100.0)
+    assert t.cutoffs.l == 100.0
+    assert "L set by the caller" in t.cutoffs.reason and "largest preferred" not in t.cutoffs.reason
+    assert "smallest preferred" in t.cutoffs.reason            # the automatic S is explained
+    both = surface_texture(z, 2.0, s="auto", l="auto")
+    assert "largest preferred" in both.cutoffs.reason and "caller" not in both.cutoffs.reason
