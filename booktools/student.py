@@ -72,7 +72,7 @@ MIN_LINE = 13
 
 __all__ = ["REFERENCE_ONLY", "student_notebook", "write_student_edition", "student_book_config",
            "build_student_book", "solutions_left", "solution_lines", "solution_code_left",
-           "setup", "main"]
+           "self_check_leaks", "plain_roles", "setup", "main"]
 
 
 def _plain_exercise(source: str) -> str:
@@ -96,6 +96,24 @@ def _tasks(nb) -> dict[str, str]:
             if task and label:
                 tasks[label.group(1)] = f"Task {task.group(1)} ({task.group(2).strip()})"
     return tasks
+
+
+_ROLE = re.compile(r"\{(doc|ref|numref|eq|download|cite:p|cite:t|cite)\}`([^`]*)`")
+
+
+def plain_roles(markdown: str) -> str:
+    """``markdown`` with the book's MyST roles as plain text, for a notebook opened outside the
+    book: ``{doc}`title <page>``` becomes "title", ``{doc}`../running``` becomes "the book's
+    page running"; other roles keep their text."""
+    def plain(match):
+        role, text = match.group(1), match.group(2).strip()
+        title, _, target = text.partition("<")
+        if target:
+            return title.strip()
+        if role == "doc":
+            return f"the book's page {Path(text).name}"
+        return text
+    return _ROLE.sub(plain, markdown)
 
 
 def student_notebook(nb):
@@ -131,6 +149,8 @@ def student_notebook(nb):
         new = nbformat.from_dict(dict(cell))
         if new.cell_type == "markdown" and "{exercise}" in new.source:
             new.source = _plain_exercise(new.source)
+        if new.cell_type == "markdown":
+            new.source = plain_roles(new.source)
         if new.cell_type == "code":
             new.outputs, new.execution_count = [], None
         new.metadata = {}
@@ -238,6 +258,58 @@ def solution_lines(nb) -> tuple[list[str], list[str]]:
             outside_lines.extend(lines)
     outside = " ".join(outside_lines)   # a task's text may break a call across its lines
     return [line for line in inside_lines if line not in outside], outside_lines
+
+
+_LIBRARY_NAMES = {"np", "math", "plt", "print", "len", "float", "int", "abs", "range", "zip",
+                  "min", "max", "sum", "list", "dict", "tuple", "round", "sorted", "isinstance",
+                  "enumerate", "str", "set", "any", "all", "next", "bool"}
+
+
+def _solution_expressions(source: str) -> set[str]:
+    """The right-hand sides of a solution cell's assignments, and its calls of anything but
+    Python's and numpy's own functions (unparsed), from 14 characters on; plain reads of a field
+    or an item (``result.samples["x"]``) are not a solution."""
+    import ast
+
+    def root(node):
+        while isinstance(node, (ast.Attribute, ast.Call, ast.Subscript)):
+            node = node.func if isinstance(node, ast.Call) else node.value
+        return node.id if isinstance(node, ast.Name) else None
+
+    def plain_access(node):
+        while isinstance(node, (ast.Attribute, ast.Subscript)):
+            node = node.value
+        return isinstance(node, ast.Name)
+
+    found = set()
+    for node in ast.walk(ast.parse(source)):
+        value = getattr(node, "value", None) if isinstance(
+            node, (ast.Assign, ast.AugAssign, ast.AnnAssign)) else None
+        if value is not None and not plain_access(value):
+            found.add(ast.unparse(value))
+        if isinstance(node, ast.Call) and root(node.func) not in _LIBRARY_NAMES:
+            found.add(ast.unparse(node))
+    return {text for text in found if len(text) >= 14}
+
+
+def self_check_leaks(nb) -> list[str]:
+    """Where a self-check (a code cell outside the solutions that starts with ``# self-check``)
+    holds an expression of a reference solution (:func:`_solution_expressions`): a self-check
+    tests the result and must not show the code. One line per leak: ``cell N: expression``."""
+    import ast
+
+    solutions, checks, inside = set(), [], False
+    for index, cell in enumerate(nb.cells):
+        if cell.cell_type == "markdown" and _START.search(cell.source):
+            inside = True
+        elif cell.cell_type == "markdown" and _END.search(cell.source):
+            inside = False
+        elif cell.cell_type == "code" and inside:
+            solutions |= _solution_expressions(cell.source)
+        elif cell.cell_type == "code" and cell.source.lstrip().startswith("# self-check"):
+            checks.append((index, {ast.unparse(n) for n in ast.walk(ast.parse(cell.source))
+                                   if isinstance(n, ast.expr)}))
+    return [f"cell {index}: {text}" for index, shown in checks for text in sorted(shown & solutions)]
 
 
 def _texts(path: Path, name: str):

@@ -237,3 +237,35 @@ def test_make_student_removes_its_hand_out_when_it_fails(tmp_path, monkeypatch, 
     (out / "kept.txt").unlink()
     assert student.main(["--out", str(out), "--no-book"]) == 1
     assert not out.exists(), "an output folder left empty is removed"
+
+
+@pytest.mark.parametrize("lab", LABS, ids=lambda p: p.stem)
+def test_no_self_check_shows_a_solution(lab):
+    """A self-check tests the student's result; it never holds an expression of the reference
+    solution (which the student edition would hand out with the task)."""
+    from booktools.student import self_check_leaks
+
+    assert self_check_leaks(nbformat.read(lab, as_version=4)) == []
+
+
+def test_a_self_check_that_shows_the_solution_is_found():
+    from booktools.student import self_check_leaks
+
+    cells = [nbformat.v4.new_markdown_cell(":::{solution-start} t1\n:::"),
+             nbformat.v4.new_code_cell("freqs = fourier.frequency_grid(N, d)\nsq = float(np.std(z))"),
+             nbformat.v4.new_markdown_cell(":::{solution-end}\n:::"),
+             nbformat.v4.new_code_cell("# self-check\nassert np.allclose(freqs, "
+                                       "fourier.frequency_grid(N, d))\nassert sq > 0")]
+    nb = nbformat.v4.new_notebook(cells=cells)
+    assert self_check_leaks(nb) == ["cell 3: fourier.frequency_grid(N, d)"]
+
+
+def test_the_student_notebooks_hold_no_raw_role():
+    """A notebook opened in Jupyter shows MyST roles as raw text: the student edition writes
+    them out ({doc}`../running` as "the book's page running")."""
+    assert student.plain_roles("see {doc}`../running` and {doc}`the ladder <model_ladder>`") \
+        == "see the book's page running and the ladder"
+    for lab in LABS:
+        text = "\n".join(c.source for c in student.student_notebook(
+            nbformat.read(lab, as_version=4)).cells if c.cell_type == "markdown")
+        assert not re.search(r"\{(doc|ref|numref|cite[:a-z]*)\}`", text), lab.name
