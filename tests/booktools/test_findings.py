@@ -6,6 +6,7 @@ import nbformat
 from nbmake.nb_result import NotebookError, NotebookResult
 
 from booktools import findings, notebook_cache
+from tests.booktools.test_notebook_cache import _notebook
 
 
 def _glue_output(name, text, shown=False):
@@ -44,15 +45,6 @@ def test_a_regressed_claim_fails_the_result_naming_it():
     error = NotebookError("boom", "Traceback ...", 1)
     broken = NotebookResult(nb, error)
     assert findings.fail_on_findings(broken).error is error, "a failing cell is reported as is"
-
-
-def _notebook(path, *sources):
-    nb = nbformat.v4.new_notebook()
-    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",
-                                 "language": "python"}
-    nb.cells = [nbformat.v4.new_code_cell(s) for s in sources]
-    nbformat.write(nb, path)
-    return path
 
 
 def test_a_regression_fails_again_when_its_run_comes_from_the_cache(tmp_path):
