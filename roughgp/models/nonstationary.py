@@ -184,7 +184,8 @@ def _weights(features, anchors):
     order = np.argsort(d, axis=1, kind="stable")
     i, j = order[:, 0], order[:, 1]
     seg = anchors[j] - anchors[i]
-    t = np.clip(((features - anchors[i]) * seg).sum(1) / (seg * seg).sum(1), 0.0, 1.0)
+    length2 = np.maximum((seg * seg).sum(1), np.finfo(float).tiny)
+    t = np.clip(((features - anchors[i]) * seg).sum(1) / length2, 0.0, 1.0)
     cols = np.arange(len(features))
     weights[i, cols] += 1 - t
     weights[j, cols] += t
