@@ -49,7 +49,8 @@ from roughgp.surface_models.chain import apply_operators, rest_of_chain
 from roughgp.surface_models.model import FittedModel
 
 __all__ = ["ModelCheck", "ParameterCheck", "check_model", "plot_model_check", "axial_frame",
-           "SURFACE_PARAMETERS", "PROFILE_PARAMETERS", "STD_FRAME"]
+           "SURFACE_PARAMETERS", "PROFILE_PARAMETERS", "STD_FRAME", "chain_parameters",
+           "draw_models"]
 
 SURFACE_PARAMETERS = ("Sq", "Sa", "Ssk", "Sku", "Sp", "Sv", "Sz", "Sk", "Spk", "Svk", "Sal",
                       "Str", "Std")
@@ -130,7 +131,7 @@ def _point_parameters(h, names, areal):
     return {n: float(values[n]) for n in names if n in values}
 
 
-def _chain_parameters(heights, holes, spacing, names, areal, spatial):
+def chain_parameters(heights, holes, spacing, names, areal, spatial):
     """The parameters ``names`` of ``heights`` (through the chain, NaN at ``holes``). With
     holes: the height parameters of the measured points, the ``spatial`` ones of the heights
     with their holes set to the measured points' mean (module docstring)."""
@@ -165,8 +166,21 @@ def axial_frame(simulated, measured):
     return frame(sims) + (measured - frame(measured))
 
 
+def draw_models(model: FittedModel, models, n_simulations) -> list:
+    """The model each of ``n_simulations`` draws comes from: ``model`` for every draw (the
+    plug-in check), or ``models`` in turn (the predictive check: each a refit of a bootstrap
+    copy, :func:`roughgp.checking.predictive.bootstrap_models`), repeated when fewer."""
+    if models is None:
+        return [model] * n_simulations
+    models = list(models)
+    if not models or any(not isinstance(m, FittedModel) or m.kind != model.kind for m in models):
+        raise ValueError(f"models must be a non-empty sequence of {model.kind} FittedModels "
+                         f"(the predictive draws), got {len(models)} item(s)")
+    return [models[i % len(models)] for i in range(n_simulations)]
+
+
 def check_model(model: FittedModel, z, spacing=None, *, n_simulations=19, seed=0,
-                names=None) -> ModelCheck:
+                names=None, models=None) -> ModelCheck:
     """Place the texture parameters of the measurement ``z`` among those of ``n_simulations``
     draws of ``model`` (module docstring).
 
@@ -178,6 +192,9 @@ def check_model(model: FittedModel, z, spacing=None, *, n_simulations=19, seed=0
         n_simulations: draws (>= 2; the default 19 makes "outside the range" a 10 % test).
         seed: of the draws; the same seed gives the same table.
         names: the parameters (default :data:`SURFACE_PARAMETERS` / :data:`PROFILE_PARAMETERS`).
+        models: None (every draw from ``model``: the plug-in check) or models to draw from in
+            turn (the predictive check, :func:`draw_models`); ``model`` still gives the
+            operators.
     """
     z = np.asarray(z, dtype=np.float64)
     areal = model.kind == "surface"
@@ -195,7 +212,7 @@ def check_model(model: FittedModel, z, spacing=None, *, n_simulations=19, seed=0
     heights = measured_chain.sl
     holes = ~np.isfinite(heights)
     spatial = [n for n in names if n in _SPATIAL] if holes.any() and areal else []
-    measured = _chain_parameters(heights, holes, spacing, names, areal, spatial)
+    measured = chain_parameters(heights, holes, spacing, names, areal, spatial)
     if holes.any():
         notes.append(f"{holes.mean():.1%} of the points unmeasured: the height parameters are "
                      f"of the measured points, the simulations given the same holes"
@@ -204,12 +221,16 @@ def check_model(model: FittedModel, z, spacing=None, *, n_simulations=19, seed=0
     if model.stage == "filtered":
         notes.append("the model describes the heights after the filters (stage 'filtered'): "
                      "its simulations are compared as drawn, plane removed")
+    sources = draw_models(model, models, n_simulations)
+    if models is not None:
+        notes.append(f"predictive simulations: drawn from {len(set(map(id, sources)))} models "
+                     f"in turn (the fit's uncertainty carried), not from the one fitted model")
     simulated = {n: [] for n in names}
     first = None
-    for _ in range(n_simulations):
-        draw = model.simulate(z.shape, seed=rng, spacing=spacing)
+    for source in sources:
+        draw = source.simulate(z.shape, seed=rng, spacing=spacing)
         h = rest_of_chain(model, draw, spacing, holes if holes.any() else None).sl
-        values = _chain_parameters(h, holes, spacing, names, areal, spatial)
+        values = chain_parameters(h, holes, spacing, names, areal, spatial)
         first = h if first is None else first
         for n in names:
             simulated[n].append(values[n])

@@ -1,0 +1,143 @@
+r"""Simulations that carry the fit's uncertainty: a parametric bootstrap of the fit (beyond the
+paper; issue 40).
+
+A model fitted to one crop of a surface is a point estimate :math:`\hat\theta` of the
+variance, the lengths and the lay of eq 18 (or of another rung of the ladder). A 256 x 256
+crop holds only a few wavelengths near the L-filter's cut-off, so :math:`\hat\theta` is
+uncertain, and simulations drawn from :math:`\hat\theta` alone (the *plug-in* simulations)
+are too alike: another crop of the same surface, whose parameters are :math:`\theta` and
+not :math:`\hat\theta`, falls outside their range more often than the check's nominal
+:math:`2 / (n + 1)`.
+
+The *predictive* simulations draw the parameters first: :math:`B` bootstrap measurements
+:math:`y^*_b` are drawn from :math:`\hat\theta` on the grid the model was fitted on, each is
+refitted the way the model was fitted (:func:`roughgp.checking.calibrated.refit_like`: the
+same rung, marginal, operators and blocks), and simulation :math:`i` is drawn from refit
+:math:`\hat\theta^*_{i \bmod B}`. The spread of :math:`\hat\theta^*` around :math:`\hat\theta`
+stands for the spread of :math:`\hat\theta` around :math:`\theta` (Efron and Tibshirani 1993,
+ch. 6; Harris 1989's bootstrap predictive distribution), so the simulations spread as new
+measurements of the surface would. The bootstrap copies are complete grids of the fitted
+data's shape (``model.data["shape"]``): holes of the fitted crop are not recorded in the model
+file, so a crop with many holes gets copies a little more informative than it was.
+
+Surface models of stage ``"form-removed"`` of the rungs
+:data:`~roughgp.checking.calibrated.RUNG_OF_EQUATION` only (what :func:`refit_like` refits);
+:func:`predictive_refusal` says why another cannot be. What it buys out of sample is measured
+in ``benchmarks/held_out_calibration.py`` (the chapter "Does the model check say no when it
+should?").
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from roughgp.checking.calibrated import refit_like, refusal
+from roughgp.surface_models.model import FittedModel
+
+__all__ = ["MAX_MODELS", "CENTRES", "bootstrap_models", "recentred", "predictive_refusal",
+           "fitted_shape"]
+
+MAX_MODELS = 99  #: the most bootstrap refits (each a fit)
+#: where the predictive draws are centred: as refitted, on the fit, or on the bias-corrected fit
+CENTRES = ("refits", "fit", "bias-corrected")
+#: the positive scale parameters recentred (in logs) by :func:`recentred`, per equation
+_SCALES = {"eq18": ("variance_um2", "lambda_a_um", "lambda_b_um", "noise_variance_um2"),
+           "eq18-matern": ("variance_um2", "lambda_a_um", "lambda_b_um", "noise_variance_um2")}
+
+
+def fitted_shape(model: FittedModel, default) -> tuple:
+    """The grid the model was fitted on (``model.data["shape"]``), else ``default``."""
+    shape = model.data.get("shape") if isinstance(model.data, dict) else None
+    if shape is None or len(shape) != 2:
+        return None if default is None else tuple(int(n) for n in default)
+    return tuple(int(n) for n in shape)
+
+
+def predictive_refusal(model: FittedModel) -> str | None:
+    """Why ``model``'s fit cannot be bootstrapped, or None."""
+    why = refusal(model)
+    return None if why is None else why.replace("the calibrated check", "the predictive "
+                                                "simulations")
+
+
+def recentred(model: FittedModel, refits, centre="bias-corrected") -> tuple:
+    r"""The refits moved so that their scale parameters (variance, lengths, noise; in logs)
+    centre where ``centre`` says, their spread kept (eq 18 and its Matérn variant; other rungs
+    are returned as refitted):
+
+    - ``"refits"``: as refitted (centred where the fit lands on copies of the fitted model:
+      for a fit biased low, lower than the fit);
+    - ``"fit"``: on the fit, :math:`\log\theta^*_b - \overline{\log\theta^*} +
+      \log\hat\theta`;
+    - ``"bias-corrected"``: on the bootstrap's bias-corrected fit, :math:`\log\theta^*_b -
+      \overline{\log\theta^*} + (2 \log\hat\theta - \overline{\log\theta^*})`
+      (Efron and Tibshirani 1993, section 10.6: the fit's bias estimated by the refits').
+    """
+    if centre not in CENTRES:
+        raise ValueError(f"centre must be one of {', '.join(CENTRES)}, got {centre!r}")
+    refits = tuple(refits)
+    names = _SCALES.get(model.equation, ())
+    if centre == "refits" or not names or len(refits) < 2:
+        return refits
+    shift = {}
+    for name in names:
+        fitted = np.log(float(model.hyperparameters[name]))
+        mean = float(np.mean([np.log(float(r.hyperparameters[name])) for r in refits]))
+        shift[name] = fitted - mean if centre == "fit" else 2.0 * (fitted - mean)
+    out = []
+    for r in refits:
+        hp = dict(r.hyperparameters)
+        for name, delta in shift.items():
+            hp[name] = float(np.exp(np.log(float(hp[name])) + delta))
+        out.append(dataclasses.replace(r, hyperparameters=hp))
+    return tuple(out)
+
+
+def bootstrap_models(model: FittedModel, n_models, *, shape=None, spacing=None, seed=0,
+                     centre="bias-corrected", progress=None) -> tuple:
+    """``n_models`` refits of bootstrap measurements drawn from ``model`` (module docstring).
+
+    Args:
+        model: a surface :class:`~roughgp.surface_models.model.FittedModel` of stage
+            ``"form-removed"`` (:func:`predictive_refusal`).
+        n_models: B, an integer in [1, :data:`MAX_MODELS`].
+        shape: of the bootstrap measurements (default: the fitted data's,
+            :func:`fitted_shape`).
+        spacing: their spacing (default: the model's).
+        seed: an integer >= 0; the same seed gives the same refits.
+        centre: where the draws are centred (:func:`recentred`).
+        progress: None or a function called with ``(b, B)`` after each refit.
+
+    Returns:
+        a tuple of B FittedModels.
+    """
+    if not isinstance(n_models, (int, np.integer)) or not 1 <= n_models <= MAX_MODELS:
+        raise ValueError(f"n_models must be an integer in [1, {MAX_MODELS}], got {n_models!r}")
+    if not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ValueError(f"seed must be an integer >= 0, got {seed!r}")
+    if centre not in CENTRES:
+        raise ValueError(f"centre must be one of {', '.join(CENTRES)}, got {centre!r}")
+    why = predictive_refusal(model)
+    if why:
+        raise ValueError(why)
+    if shape is None:
+        shape = fitted_shape(model, None) if model.data.get("shape") else None
+        if shape is None:
+            raise ValueError("shape: the model file records no fitted shape (data.shape); "
+                             "give the bootstrap measurements' shape")
+    shape = tuple(int(n) for n in shape)
+    spacing = model.spacing if spacing is None else spacing
+    copies = np.random.default_rng([int(seed), 4])
+    refits = []
+    for b in range(int(n_models)):
+        copy = model.simulate(shape, seed=copies, spacing=spacing)
+        try:
+            refits.append(refit_like(model, copy, spacing))
+        except ValueError as error:
+            raise ValueError(f"bootstrap copy {b + 1} of {n_models} cannot be refitted: "
+                             f"{error}") from None
+        if progress is not None:
+            progress(b + 1, int(n_models))
+    return recentred(model, refits, centre)
