@@ -85,7 +85,8 @@ from roughgp.experiments.check_calibration import (CASES, Calibration, Calibrati
 from roughgp.surface_models.fit import fit_surface_model
 from roughgp.surface_models.model import FittedModel
 
-__all__ = ["rank_check", "calibrate", "recheck", "synthetic_measurement", "EXPECTED_OUTSIDE",
+__all__ = ["rank_check", "calibrate", "recheck", "synthetic_measurement", "synthetic_holes",
+           "EXPECTED_OUTSIDE",
            "StageComparison", "compare_stages", "bootstrap_case", "check_both_ways"]
 
 #: the share outside for a measurement of the checked model, 19 simulations: 2 / 20
@@ -116,7 +117,7 @@ def rank_check(model, z, *, n_simulations=19, n_draws=99, seed=0,
                       finite, tuple(outside))
 
 
-def _holes(shape, rng):
+def synthetic_holes(shape, rng):
     """A rectangle and a disc of unmeasured points at seeded places (about 9 % of the grid)."""
     ny, nx = shape
     holes = np.zeros(shape, dtype=bool)
@@ -146,7 +147,7 @@ def synthetic_measurement(index, shape, seed):
     iy, ix = np.indices(shape)
     z = z + 0.01 * ix - 0.02 * iy
     if index % 2:
-        z = np.where(_holes(shape, rng), np.nan, z)
+        z = np.where(synthetic_holes(shape, rng), np.nan, z)
     return truth, l_filter, z
 
 

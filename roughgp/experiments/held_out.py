@@ -1,0 +1,219 @@
+r"""Is the out-of-sample check calibrated? Synthetic maps of known models, a model fitted on
+the left half and checked on the right (issue 40; ``benchmarks/held_out_calibration.py``
+records the run, the chapter "Does the model check say no when it should?" shows it).
+
+Each case is a 64 x 128 map (by default) of one of :data:`KINDS`:
+
+- ``"stationary"``: eq 18 with one of :data:`~roughgp.experiments.check_calibration.CASES`
+  (cycled), a tilted plane added: one model describes the whole map;
+- ``"holes"``: the same with a rectangle and a disc unmeasured (about 9 %);
+- ``"hierarchical"``: each half of the map its own region of a population: the variance times
+  :math:`e^{0.4 g}` and each length times :math:`e^{0.25 g'}` (:math:`g, g'` standard normal,
+  drawn per half): a model of one half does *not* describe the other;
+- ``"gradient"``: the stationary map times a smooth amplitude that triples the variance from
+  the left edge to the right (a modulated, non-stationary process).
+
+eq 18 is fitted to the left half (the block likelihood as in
+:mod:`roughgp.experiments.model_check`: 16-point blocks, 10 of them) and checked
+(:func:`roughgp.checking.model_check.check_model`, 19 simulations) in these ways
+(:data:`VARIANTS`): on the left half it saw (``in-sample``), on the right half with the plug-in
+simulations (``held-out``), with the true model of the right half (``held-out-true``: the
+check's own level, 2 / 20 = 10 % for every kind), and with the predictive simulations of
+:mod:`roughgp.checking.predictive` (``predictive``: ``n_models`` bootstrap refits,
+bias-corrected; ``predictive-fit``: centred on the fit). The tile check
+(:mod:`roughgp.checking.tiles`, 2 x 4 tiles of the whole map, plug-in) gives the shares of
+outside tiles on the left (fitted) and the right (held-out) half.
+
+For ``stationary`` and ``holes`` the model's family describes the surface: a check that is
+calibrated says "outside" in about 10 % of the cases per parameter out of sample. For
+``hierarchical`` and ``gradient`` it does not, and the held-out check should say so more often.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+
+from roughgp.checking.held_out import part_of
+from roughgp.checking.model_check import SURFACE_PARAMETERS, check_model
+from roughgp.checking.predictive import bootstrap_models, recentred
+from roughgp.checking.tiles import TILE_PARAMETERS, tile_check
+from roughgp.experiments.check_calibration import CASES
+from roughgp.experiments.model_check import synthetic_holes
+from roughgp.surface_models.fit import fit_surface_model
+from roughgp.surface_models.model import FittedModel
+
+__all__ = ["KINDS", "VARIANTS", "SHAPE", "TILES", "synthetic_map", "held_out_case",
+           "outside_shares", "shares_table"]
+
+KINDS = ("stationary", "holes", "hierarchical", "gradient")
+#: the checks of each case (module docstring); the predictive ones only with n_models > 0
+VARIANTS = ("in-sample", "held-out", "held-out-true", "predictive", "predictive-fit")
+SHAPE = (64, 128)
+TILES = (2, 4)
+_BLOCK, _N_BLOCKS = 16, 10
+_VARIANCE_SPREAD, _LENGTH_SPREAD = 0.4, 0.25  # the hierarchical population's log spreads
+_GRADIENT = 3.0  # the gradient kind's variance ratio, right edge to left
+#: the recorded run (``benchmarks/held_out_calibration.py``: one :func:`held_out_case` a line)
+RECORDED = Path(__file__).resolve().parents[2] / "benchmarks" / "results" / \
+    "held_out_calibration.jsonl"
+
+
+def _model(variance, lam_a, lam_b, angle, noise) -> FittedModel:
+    return FittedModel("eq18", {"variance_um2": variance, "lambda_a_um": lam_a,
+                                "lambda_b_um": lam_b, "angle_deg": angle,
+                                "noise_variance_um2": noise}, (1.0, 1.0),
+                       cutoffs={"form": "plane", "s_um": None, "l_um": None})
+
+
+def synthetic_map(kind, index, *, shape=SHAPE, seed=0):
+    """``(z, truth_left, truth_right)``: the ``index``-th synthetic map of ``kind`` (module
+    docstring) and the true models of its halves (for ``gradient`` the model at the halves'
+    mean amplitude)."""
+    if kind not in KINDS:
+        raise ValueError(f"kind must be one of {', '.join(KINDS)}, got {kind!r}")
+    rng = np.random.default_rng([seed, KINDS.index(kind), index])
+    variance, lam_a, lam_b, angle, noise = CASES[index % len(CASES)]
+    ny, nx = shape
+    half = nx // 2
+    truth = _model(variance, lam_a, lam_b, angle, noise)
+    left = right = truth
+    if kind == "hierarchical":
+        halves = []
+        for _ in range(2):
+            g = rng.standard_normal(3)
+            halves.append(_model(variance * np.exp(_VARIANCE_SPREAD * g[0]),
+                                 lam_a * np.exp(_LENGTH_SPREAD * g[1]),
+                                 lam_b * np.exp(_LENGTH_SPREAD * g[2]), angle, noise))
+        left, right = halves
+        z = np.concatenate([left.simulate(shape, seed=rng)[:, :half],
+                            right.simulate(shape, seed=rng)[:, half:]], axis=1)
+    else:
+        z = truth.simulate(shape, seed=rng)
+    if kind == "gradient":
+        x = np.arange(nx) / (nx - 1) - 0.5
+        z = z * np.exp(0.5 * np.log(_GRADIENT) * x)[None, :]
+        scale = [float(np.mean(np.exp(np.log(_GRADIENT) * x[s])))
+                 for s in (slice(0, half), slice(half, nx))]
+        left, right = (dataclasses.replace(truth, hyperparameters={
+            **truth.hyperparameters, "variance_um2": variance * s,
+            "noise_variance_um2": noise * s}) for s in scale)
+    iy, ix = np.indices(shape)
+    z = z + 0.01 * ix - 0.02 * iy
+    if kind == "holes":
+        z = np.where(synthetic_holes(shape, rng), np.nan, z)
+    return z, left, right
+
+
+def held_out_case(kind, index, *, shape=SHAPE, n_simulations=19, n_models=9, seed=0) -> dict:
+    """One case (module docstring): the fitted hyperparameters, the parameters outside per
+    variant, the tile check's outside shares per half, and the seconds taken."""
+    began = time.perf_counter()
+    z, _, truth_right = synthetic_map(kind, index, shape=shape, seed=seed)
+    fitted_part, held_part = part_of(z.shape, "left"), part_of(z.shape, "right")
+    fitted = fit_surface_model(fitted_part.cut(z), 1.0, block=_BLOCK, n_blocks=_N_BLOCKS,
+                               seed=seed + index).model
+    a, b = fitted_part.cut(z), held_part.cut(z)
+    check_seed = int(np.random.default_rng([seed, index, 7]).integers(2**31))
+    options = dict(n_simulations=n_simulations, seed=check_seed)
+    outside = {"in-sample": check_model(fitted, a, **options).outside,
+               "held-out": check_model(fitted, b, **options).outside,
+               "held-out-true": check_model(truth_right, b, **options).outside}
+    if n_models:
+        refits = bootstrap_models(fitted, n_models, shape=a.shape, seed=seed + index,
+                                  centre="refits")
+        for variant, centre in (("predictive", "bias-corrected"), ("predictive-fit", "fit")):
+            outside[variant] = check_model(fitted, b, models=recentred(fitted, refits, centre),
+                                           **options).outside
+    tiles = tile_check(fitted, z, tiles=TILES, **options)
+    n_cols = TILES[1] // 2
+    tile_shares = {name: {"left": float(tiles.outside[:, :n_cols, k].mean()),
+                          "right": float(tiles.outside[:, n_cols:, k].mean())}
+                   for k, name in enumerate(tiles.names)}
+    return {"kind": kind, "index": int(index), "seed": int(seed), "shape": list(shape),
+            "n_simulations": int(n_simulations), "n_models": int(n_models),
+            "fitted": {k: float(v) for k, v in fitted.hyperparameters.items()},
+            "truth_right": {k: float(v) for k, v in truth_right.hyperparameters.items()},
+            "outside": outside, "tiles": tile_shares,
+            "seconds": round(time.perf_counter() - began, 2)}
+
+
+def outside_shares(records, kind, variant, names=SURFACE_PARAMETERS) -> dict | None:
+    """``{parameter: share of the cases outside}`` of ``kind``'s records under ``variant``
+    (None when no record has it), with ``"cases"`` their number and ``"mean"`` the share
+    averaged over ``names``."""
+    rows = [r for r in records if r["kind"] == kind and variant in r["outside"]]
+    if not rows:
+        return None
+    shares = {n: float(np.mean([n in r["outside"][variant] for r in rows])) for n in names}
+    return {**shares, "mean": float(np.mean(list(shares.values()))), "cases": len(rows)}
+
+
+def tile_shares(records, kind, side, names=TILE_PARAMETERS) -> dict | None:
+    """The tile check's mean outside share per parameter of ``kind``'s records on ``side``
+    (``"left"``, fitted, or ``"right"``, held out)."""
+    rows = [r for r in records if r["kind"] == kind]
+    if not rows:
+        return None
+    return {n: float(np.mean([r["tiles"][n][side] for r in rows])) for n in names}
+
+
+def shares_table(records, names=("Sq", "Sa", "Sk", "Sal", "Str", "Std")) -> str:
+    """A Markdown table: per kind and variant, the cases, the share outside averaged over the
+    13 parameters and for ``names``; then the tile check's shares."""
+    head = ["kind", "check", "cases", "mean of 13", *names]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for kind in KINDS:
+        for variant in VARIANTS:
+            s = outside_shares(records, kind, variant)
+            if s is None:
+                continue
+            lines.append(f"| {kind} | {variant} | {s['cases']} | {s['mean']:.0%} | "
+                         + " | ".join(f"{s[n]:.0%}" for n in names) + " |")
+    lines += ["", "| kind | tiles | " + " | ".join(TILE_PARAMETERS) + " |",
+              "|---|---|" + "---|" * len(TILE_PARAMETERS)]
+    for kind in KINDS:
+        for side, label in (("left", "fitted half"), ("right", "held-out half")):
+            s = tile_shares(records, kind, side)
+            if s is not None:
+                lines.append(f"| {kind} | {label} | "
+                             + " | ".join(f"{s[n]:.0%}" for n in TILE_PARAMETERS) + " |")
+    return "\n".join(lines)
+
+
+def load_records(path=RECORDED) -> list:
+    """The cases recorded in the JSONL file ``path`` (one :func:`held_out_case` a line; none
+    when the file does not exist)."""
+    path = Path(path)
+    if not path.exists():
+        return []
+    return [json.loads(line) for line in path.read_text(encoding="utf-8").splitlines()
+            if line.strip()]
+
+
+def plot_outside_shares(records, names=("mean", "Sq"), variants=VARIANTS):
+    """One panel per entry of ``names`` (``"mean"``: the share averaged over the 13
+    parameters): per kind, a bar per variant for the share of cases outside, and the check's
+    level 2 / (n + 1). Returns the figure."""
+    import matplotlib.pyplot as plt
+    level = 2.0 / (records[0]["n_simulations"] + 1)
+    fig, axes = plt.subplots(1, len(names), figsize=(8.8, 3.0), sharey=True,
+                             constrained_layout=True)
+    axes = np.atleast_1d(axes)
+    width = 0.8 / len(variants)
+    x = np.arange(len(KINDS))
+    for ax, name in zip(axes, names):
+        for v, variant in enumerate(variants):
+            shares = [outside_shares(records, kind, variant) for kind in KINDS]
+            ax.bar(x + (v - (len(variants) - 1) / 2) * width,
+                   [100 * s[name] if s else np.nan for s in shares], width, label=variant)
+        ax.axhline(100 * level, color="k", ls="--", lw=0.8)
+        ax.set_xticks(x, KINDS)
+        ax.set_title("mean of the 13 parameters" if name == "mean" else name)
+    axes[0].set_ylabel("cases outside (%)")
+    axes[-1].legend(fontsize=7, loc="upper left")
+    return fig

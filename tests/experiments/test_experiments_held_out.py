@@ -1,0 +1,50 @@
+"""roughgp.experiments.held_out (issue 40): the synthetic maps of known models behind the
+out-of-sample calibration, one case end to end, and the table of shares."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from roughgp.experiments.held_out import (
+    KINDS,
+    held_out_case,
+    outside_shares,
+    shares_table,
+    synthetic_map,
+)
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_each_kind_is_a_map_with_the_true_models_of_its_halves(kind):
+    z, left, right = synthetic_map(kind, 0, shape=(32, 64))
+    again, _, _ = synthetic_map(kind, 0, shape=(32, 64))
+    assert z.shape == (32, 64) and np.array_equal(z, again, equal_nan=True)
+    assert np.isnan(z).any() == (kind == "holes")
+    same = left.hyperparameters == right.hyperparameters
+    assert same == (kind in ("stationary", "holes"))
+    if kind == "gradient":
+        ratio = right.hyperparameters["variance_um2"] / left.hyperparameters["variance_um2"]
+        assert 1.5 < ratio < 3.0
+        assert np.nanstd(z[:, 48:]) > np.nanstd(z[:, :16])
+
+
+def test_an_unknown_kind_is_refused():
+    with pytest.raises(ValueError, match="kind must be one of stationary, holes"):
+        synthetic_map("ramp", 0)
+
+
+def test_one_case_end_to_end_and_its_table():
+    record = held_out_case("gradient", 0, shape=(32, 64), n_simulations=9, n_models=0)
+    assert set(record["outside"]) == {"in-sample", "held-out", "held-out-true"}
+    assert set(record["tiles"]["Sq"]) == {"left", "right"}
+    fake = [{"kind": "stationary", "outside": {"held-out": ["Sq"] if i < 3 else []},
+             "tiles": {n: {"left": 0.0, "right": 0.25} for n in ("Sq", "Sal", "Str", "Std")}}
+            for i in range(10)]
+    shares = outside_shares(fake, "stationary", "held-out")
+    assert shares["cases"] == 10 and shares["Sq"] == pytest.approx(0.3)
+    assert outside_shares(fake, "stationary", "predictive") is None
+    table = shares_table(fake + [record])
+    assert "| stationary | held-out | 10 | 2% | 30% |" in table
+    assert "| stationary | held-out half | 25% |" in table
+    assert "| gradient | in-sample | 1 |" in table
