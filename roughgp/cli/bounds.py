@@ -49,6 +49,7 @@ BOUNDS = {
     "--blocks": Bound(1, 200),
     "--simulations": Bound(2, 99),
     "--calibrate": Bound(1, 99),
+    "--predictive": Bound(1, 99),
     "--samples": Bound(2, 256),
 }
 

@@ -9,7 +9,14 @@ import math
 import time
 
 from roughgp.cli.bounds import bounds_text
-from roughgp.cli.options import add_spurious_options, load_model, read_input, remove_spurious
+from roughgp.cli.options import (
+    add_part_option,
+    add_spurious_options,
+    crop_to_part,
+    load_model,
+    read_input,
+    remove_spurious,
+)
 from roughgp.cli.output import (
     UsageError,
     add_force_option,
@@ -45,9 +52,22 @@ N simulations. Surface models of stage 'form-removed' only. Measured on syntheti
 brings Sq and Sa nearer 10 % but says "outside" for Sal too often: the book's chapter "Does
 the model check say no when it should?" shows both.
 
-example:
+Out of sample: a model that describes the surface, not only the crop it saw, reproduces
+other parts of it too. Fit on a part (roughgp fit ground FILE --part left), then --held-out
+checks the model on that part and on the part it did not see (the other half), side by
+side; --part P checks any part. --predictive B draws the simulations from B refits of
+bootstrap measurements of the model (the fit's uncertainty carried: plug-in simulations of
+one fitted model are too alike for another crop). --tiles M N cuts the map into M x N tiles
+and ranks each tile's Sq, Sal, Str and Std among the same tile of the simulations: where on
+the map the model fails (--plot draws the tiles). How often each says "outside" on surfaces
+of known models: the chapter "Does the model check say no when it should?".
+
+examples:
   roughgp check land-model.json land.x3p --simulations 19 --seed 0 --plot check.png
-  roughgp check land-model.json land.x3p --calibrate 19"""
+  roughgp check land-model.json land.x3p --calibrate 19
+  roughgp fit ground map.x3p --part left --out left.json
+  roughgp check left.json map.x3p --held-out --predictive 9
+  roughgp check left.json map.x3p --tiles 2 4 --plot tiles.png"""
 
 
 def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
@@ -66,6 +86,16 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                    help=f"calibrate the check by B refitted bootstrap copies, "
                         f"{bounds_text('--calibrate')} (19 makes the level a whole count; "
                         f"default: the plain check)")
+    c.add_argument("--held-out", action="store_true",
+                   help="check the model on the part of FILE it was fitted on (fit --part, "
+                        "a half) and on the other half, side by side")
+    add_part_option(c)
+    c.add_argument("--predictive", type=int, metavar="B",
+                   help=f"draw the simulations from B refits of bootstrap measurements of the "
+                        f"model, {bounds_text('--predictive')} (default: the plug-in model)")
+    c.add_argument("--tiles", type=int, nargs=2, metavar=("M", "N"),
+                   help="rank each of M x N tiles' Sq, Sal, Str, Std among the same tile of "
+                        "the simulations (tiles of at least 16 x 16 points)")
     c.add_argument("--plot", metavar="FIGURE", help="write the figure (.png, .pdf or .svg)")
     c.add_argument("--json", metavar="OUT", help="also write the table as JSON (.json)")
     add_spurious_options(c)
@@ -85,12 +115,67 @@ def _spacing_note(heights, model) -> str | None:
             f"{fitted} um (the data it was fitted to): the simulations are drawn at the file's")
 
 
+def _refuse_combinations(args) -> None:
+    """The out-of-sample options among themselves and with --calibrate."""
+    if args.calibrate is not None:
+        for option, given in (("--held-out", args.held_out), ("--tiles", args.tiles),
+                              ("--predictive", args.predictive)):
+            if given:
+                raise UsageError(f"--calibrate calibrates the plain check of one measurement; "
+                                 f"it cannot be combined with {option}")
+    if args.held_out and args.part is not None:
+        raise UsageError("--held-out checks the fitted part and the other half; --part checks "
+                         "one part: give one of them")
+    if args.held_out and args.tiles:
+        raise UsageError("--tiles checks tiles of FILE (or of --part); it cannot be combined "
+                         "with --held-out")
+
+
+def _fitted_part(model, heights, args):
+    """The part the model was fitted on (its model file's data.part), for --held-out."""
+    from roughgp.checking.held_out import Part
+    record = model.data.get("part") if isinstance(model.data, dict) else None
+    if record is None:
+        raise UsageError(f"--held-out: {args.model} was fitted on a whole map (its data record "
+                         f"no part): fit it with --part left (or right, top, bottom) to hold "
+                         f"out the other half")
+    try:
+        part = Part.from_dict(record)
+    except ValueError as error:
+        raise UsageError(f"--held-out: {args.model}: {error}") from None
+    if tuple(part.of_shape) != heights.z.shape:
+        raise UsageError(f"--held-out: {args.model} was fitted on part {part.name} of a "
+                         f"{part.of_shape[0]} x {part.of_shape[1]} map; {args.file} is "
+                         f"{' x '.join(map(str, heights.z.shape))}")
+    return part
+
+
+def _predictive_models(model, args, start):
+    from roughgp.checking.predictive import bootstrap_models, fitted_shape, predictive_refusal
+    why = predictive_refusal(model)
+    if why:
+        raise UsageError(f"--predictive: {args.model}: {why}")
+    shape = fitted_shape(model, None)
+    if shape is None:
+        raise UsageError(f"--predictive: {args.model} records no fitted shape (data.shape): "
+                         f"its bootstrap measurements have no grid")
+    err(f"refitting {args.predictive} bootstrap measurements of {shape[0]} x {shape[1]} points "
+        f"drawn from the model (the fit's uncertainty) ...")
+
+    def progress(b, total):
+        err(f"  bootstrap measurement {b}/{total} refitted ({time.perf_counter() - start:.0f} s)")
+    try:
+        return bootstrap_models(model, args.predictive, seed=args.seed, progress=progress)
+    except ValueError as error:
+        raise UsageError(f"--predictive: {error}") from None
+
+
 def run(args) -> int:
     """``roughgp check MODEL FILE``."""
     from roughgp.api import check
-    from roughgp.checking.model_check import plot_model_check
     json_out, plot = check_outputs(("--json", args.json, "json"), ("--plot", args.plot, "plot"),
                                    inputs=(args.file, args.model), force=args.force)
+    _refuse_combinations(args)
     model = load_model(args.model)
     heights = read_input(args)  # what the file holds: a 2-column profile is no 512 x 2 surface
     if heights.kind != model.kind:
@@ -102,24 +187,67 @@ def run(args) -> int:
         why = refusal(model)
         if why:
             raise UsageError(f"--calibrate: {args.model}: {why}")
+    fitted_part = _fitted_part(model, heights, args) if args.held_out else None
+    heights, part = crop_to_part(args, heights)
+    if args.tiles:
+        from roughgp.checking.tiles import tile_slices
+        if model.kind != "surface":
+            raise UsageError(f"--tiles cuts a surface into tiles; {args.model} is a "
+                             f"{model.kind} model")
+        try:
+            tile_slices(heights.z.shape, args.tiles)
+        except ValueError as error:
+            raise UsageError(f"--{error}") from None
     spacing_note = _spacing_note(heights, model)
     z = remove_spurious(args, heights, model.cutoffs.get("form", "plane"))  # the model's F
-    err(f"simulating {args.simulations} {model.kind}s of {' x '.join(map(str, heights.z.shape))}"
-        f" points from {args.model} ...")
     start = time.perf_counter()
+    models = None if args.predictive is None else _predictive_models(model, args, start)
+    err(f"simulating {args.simulations} {model.kind}s of {' x '.join(map(str, z.shape))}"
+        f" points from {args.model} ...")
     spacing = heights.spacing if model.kind == "surface" else (heights.spacing[-1],)
+    draws = "predictive" if models is not None else "plug-in"
+    if args.tiles:
+        return _tiles(args, model, z, spacing, models, start, json_out, plot, spacing_note)
+    if fitted_part is not None:
+        return _held_out(args, model, z, spacing, models, fitted_part, start, json_out, plot,
+                         spacing_note)
     calibrated = None
     if args.calibrate is None:
-        result = check(model, z, spacing, n_simulations=args.simulations, seed=args.seed)
+        result = check(model, z, spacing, n_simulations=args.simulations, seed=args.seed,
+                       models=models)
     else:
         calibrated = _calibrated(model, z, spacing, args, start)
         result = calibrated.check
     err(f"({time.perf_counter() - start:.1f} s)")
-    print(f"{args.file} against {args.simulations} simulations of {args.model}")
+    where = "" if part is None else f" (part {part.name})"
+    print(f"{args.file}{where} against {args.simulations} {draws} simulations of {args.model}")
+    _print_head(model, result, spacing_note)
+    _print_table(result, args.simulations, calibrated)
+    if calibrated is None:
+        outside = result.outside
+        print_wrapped(("outside the simulated range: " + ", ".join(outside)) if outside else
+                      "every parameter lies within the simulated range")
+    else:
+        _calibrated_verdict(calibrated)
+    if json_out is not None:
+        record = result.to_dict() if calibrated is None else calibrated.to_dict()
+        write_json(json_out, {"file": str(args.file), "model": str(args.model),
+                              "seed": args.seed, "simulations": draws,
+                              **({"part": part.to_dict()} if part else {}), **record})
+    if plot is not None:
+        _plot_check(result, plot, f"{args.file}{where}: the measurement (line) among "
+                    f"{args.simulations} {draws} simulations")
+    return 0
+
+
+def _print_head(model, result, spacing_note) -> None:
     print_wrapped(f"model: {model.describe()}")
     print_wrapped("operators (on both): " + "; ".join(result.operators))
     for note in (*((spacing_note,) if spacing_note else ()), *result.notes):
         print_wrapped(f"note: {note}")
+
+
+def _print_table(result, n_simulations, calibrated=None) -> None:
     head = f"  {'':5} {'measured':>11} {'sim. min':>11} {'median':>11} {'sim. max':>11} " \
            f"{'rank':>8}"
     print(head + ("" if calibrated is None else f" {'p (cal.)':>8}"))
@@ -130,23 +258,95 @@ def run(args) -> int:
             verdict = "OUTSIDE" if p.name in calibrated.outside else ""
             extra = f" {_p(calibrated.p_values[p.name])}"
         print(f"  {p.name:<5} {_num(p.measured)} {_num(p.low)} {_num(p.median)} "
-              f"{_num(p.high)} {p.rank:>4}/{args.simulations:<3}{extra} {verdict} "
+              f"{_num(p.high)} {p.rank:>4}/{n_simulations:<3}{extra} {verdict} "
               f"{p.unit}".rstrip())
-    if calibrated is None:
-        outside = result.outside
-        print_wrapped(("outside the simulated range: " + ", ".join(outside)) if outside else
-                      "every parameter lies within the simulated range")
-    else:
-        _calibrated_verdict(calibrated)
+
+
+def _plot_check(result, plot, title) -> None:
+    import matplotlib.pyplot as plt
+
+    from roughgp.checking.model_check import plot_model_check
+    with atomic_output(plot) as partial:  # whole or not at all; missing folders made
+        figure = plot_model_check(result, partial, title=title)
+    plt.close(figure)
+    err(f"wrote {plot}")
+
+
+def _describe(part) -> str:
+    return (f"{part.name}: rows {part.rows[0]}:{part.rows[1]}, columns "
+            f"{part.cols[0]}:{part.cols[1]}")
+
+
+def _held_out(args, model, z, spacing, models, fitted_part, start, json_out, plot,
+              spacing_note) -> int:
+    """``check --held-out``: the fitted part and the other half, one table each."""
+    from roughgp.checking.held_out import held_out_check
+    try:
+        result = held_out_check(model, z, spacing, fitted_part=fitted_part,
+                                n_simulations=args.simulations, seed=args.seed, models=models)
+    except ValueError as error:
+        raise UsageError(f"--held-out: {error}") from None
+    err(f"({time.perf_counter() - start:.1f} s)")
+    draws = "predictive" if models is not None else "plug-in"
+    print(f"{args.file} against {args.simulations} {draws} simulations of {args.model}, on the "
+          f"part it was fitted on and on the part it did not see")
+    _print_head(model, result.held_out, spacing_note)
+    for label, part, check in (("fitted", result.fitted_part, result.fitted),
+                               ("held out", result.held_out_part, result.held_out)):
+        print(f"{label} part ({_describe(part)}):")
+        _print_table(check, args.simulations)
+    for label, check in (("fitted part", result.fitted), ("held-out part", result.held_out)):
+        print_wrapped(f"outside on the {label}: " + (", ".join(check.outside) or "none"))
+    print_wrapped(f"each parameter lies outside with probability {2 / (args.simulations + 1):.0%}"
+                  f" for a model that describes the surface; the held-out part is the test "
+                  f"(the fitted one the model has seen)")
     if json_out is not None:
-        record = result.to_dict() if calibrated is None else calibrated.to_dict()
         write_json(json_out, {"file": str(args.file), "model": str(args.model),
-                              "seed": args.seed, **record})
+                              "seed": args.seed, "simulations": draws, **result.to_dict()})
+    if plot is not None:
+        _plot_check(result.held_out, plot, f"{args.file}, held-out part {fitted_part.name!s} "
+                    f"-> {result.held_out_part.name}: the measurement (line) among "
+                    f"{args.simulations} {draws} simulations")
+    return 0
+
+
+def _tiles(args, model, z, spacing, models, start, json_out, plot, spacing_note) -> int:
+    """``check --tiles M N``: the outside tiles per parameter, as counts and a text map."""
+    import numpy as np
+
+    from roughgp.checking.tiles import tile_check
+    result = tile_check(model, z, spacing, tiles=tuple(args.tiles),
+                        n_simulations=args.simulations, seed=args.seed, models=models)
+    err(f"({time.perf_counter() - start:.1f} s)")
+    draws = "predictive" if models is not None else "plug-in"
+    m, n = result.tiles
+    print(f"{args.file} in {m} x {n} tiles against {args.simulations} {draws} simulations of "
+          f"{args.model}")
+    print_wrapped(f"model: {model.describe()}")
+    for note in (*((spacing_note,) if spacing_note else ()), *result.notes):
+        print_wrapped(f"note: {note}")
+    finite = np.isfinite(result.simulated)
+    high = np.where(finite, result.simulated, -np.inf).max(axis=0)
+    print_wrapped(f"each tile outside with probability {result.expected_share:.0%} for a model "
+                  f"that describes the surface; map: + above every simulation, - below, . within")
+    for k, name in enumerate(result.names):
+        out = result.outside[..., k]
+        print(f"  {name:<4} {int(out.sum())} of {out.size} tiles outside")
+        for i in range(m):
+            marks = ["+" if out[i, j] and result.measured[i, j, k] > high[i, j, k] else
+                     "-" if out[i, j] else "." for j in range(n)]
+            print("       " + " ".join(marks))
+    if json_out is not None:
+        write_json(json_out, {"file": str(args.file), "model": str(args.model),
+                              "seed": args.seed, "simulations": draws, **result.to_dict()})
     if plot is not None:
         import matplotlib.pyplot as plt
-        with atomic_output(plot) as partial:  # whole or not at all; missing folders made
-            figure = plot_model_check(result, partial, title=f"{args.file}: the measurement "
-                                      f"(line) among {args.simulations} simulations")
+
+        from roughgp.checking.tiles import plot_tile_check
+        with atomic_output(plot) as partial:
+            figure = plot_tile_check(result, partial, title=f"{args.file}: tiles outside "
+                                     f"{args.simulations} {draws} simulations (red above, "
+                                     f"blue below)")
         plt.close(figure)
         err(f"wrote {plot}")
     return 0

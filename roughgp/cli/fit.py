@@ -13,8 +13,10 @@ import numpy as np
 from roughgp.cli.bounds import bounds_text, check_block
 from roughgp.cli.options import (
     add_operator_options,
+    add_part_option,
     add_spurious_options,
     check_cutoffs,
+    crop_to_part,
     operator_settings,
     read_input,
     remove_spurious,
@@ -125,6 +127,7 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     add_input_options(g, kind=False, what="the surface, heights in um, NaN where missing")
     add_operator_options(g, s_default="none", l_default="auto")
     add_spurious_options(g)
+    add_part_option(g)
     g.add_argument("--nu", type=float, choices=(0.5, 1.5, 2.5), default=0.5,
                    help="smoothness: 0.5 is eq 18 (default); 1.5 or 2.5 its anisotropy with a "
                         "smoother Matern profile, for smooth surfaces (beyond the paper)")
@@ -151,11 +154,17 @@ def run(args) -> int:
     operators = operator_settings(args)
     (out,) = check_outputs(("--out", args.out, "json"), inputs=(args.file,), force=args.force)
     heights = read_input(args, getattr(args, "kind", "surface"))
+    full_shape = heights.z.shape
+    heights, part = crop_to_part(args, heights)
     check_cutoffs(operators, heights.z.shape, heights.spacing)
     for note in heights.notes:
         err(f"note: {args.file}: {note}")
     from roughgp.io.provenance import of_file
     data = of_file(args.file, heights)
+    if part is not None:
+        data["part"] = part.to_dict()
+        err(f"fitting the part {part.name} of {args.file}: rows {part.rows[0]}:{part.rows[1]}, "
+            f"columns {part.cols[0]}:{part.cols[1]} of {full_shape[0]} x {full_shape[1]}")
     start = time.perf_counter()
     if args.model == "profile":
         model = _fit_profile(args, heights, operators, data)

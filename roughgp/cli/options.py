@@ -15,7 +15,7 @@ from roughgp.cli.bounds import bounds_text
 from roughgp.cli.output import UsageError, err
 from roughgp.common.checks import check_scale
 
-__all__ = ["cutoff", "add_form_options",
+__all__ = ['add_part_option', 'crop_to_part', "cutoff", "add_form_options",
            "add_operator_options", "operator_settings", "check_cutoffs", "load_model",
            "check_scales", "seed_or_fresh", "read_input", "Given", "add_l_kind_options",
            "add_spurious_options", "remove_spurious"]
@@ -99,6 +99,35 @@ def read_input(args, kind="auto"):
     from roughgp.api import read
     return read(args.file, kind=kind, spacing=args.spacing, channel=args.channel,
                 unit=args.unit)
+
+
+PART_HELP = ("fit (or check, texture) only this part of the map: left, right, top or "
+             "bottom (a half; top: the first rows), or R0:R1,C0:C1 (row and column index "
+             "ranges, half-open); the part is recorded in the model file so that 'roughgp "
+             "check --held-out' checks the model on the part it did not see")
+
+
+def add_part_option(parser) -> None:
+    """``--part P``: the part of a map to use (:func:`roughgp.checking.held_out.part_of`)."""
+    parser.add_argument("--part", metavar="P", help=PART_HELP)
+
+
+def crop_to_part(args, heights):
+    """``heights`` cut to ``--part`` (unchanged without it), and the part (or None). A part
+    outside the map or too small is a :class:`UsageError` naming the allowed forms."""
+    import dataclasses
+
+    from roughgp.checking.held_out import part_of
+    spec = getattr(args, "part", None)
+    if spec is None:
+        return heights, None
+    if heights.kind != "surface":
+        raise UsageError(f"--part cuts a surface; {args.file} holds a profile")
+    try:
+        part = part_of(heights.z.shape, spec)
+    except ValueError as error:
+        raise UsageError(f"--{error}") from None
+    return dataclasses.replace(heights, z=part.cut(heights.z)), part
 
 
 class Given(argparse.Action):

@@ -75,7 +75,8 @@ def wrap(text: str, width: int) -> list[str]:
 
 def print_wrapped(text: str, indent: str = "  ") -> None:
     """Print ``text`` wrapped to :data:`WIDTH`, indented."""
-    print(textwrap.fill(text, WIDTH, initial_indent=indent, subsequent_indent=indent + "  "))
+    print(textwrap.fill(text, WIDTH, initial_indent=indent, subsequent_indent=indent + "  ",
+                        break_on_hyphens=False))
 
 
 def table(rows: list[tuple], widths: tuple[int, ...], header: tuple) -> str:

@@ -1,0 +1,96 @@
+"""``roughgp fit ground --part`` and ``roughgp check --held-out / --part / --predictive /
+--tiles`` (issue 40): the part recorded in the model file, the two tables side by side, the
+tile map, and the refusals before any work."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from roughgp.experiments.held_out import synthetic_map
+from cli_run import run as _run
+
+
+@pytest.fixture(scope="module")
+def left_fit(tmp_path_factory):
+    """A 32 x 64 map three times rougher on its right half, and a model of its left half."""
+    folder = tmp_path_factory.mktemp("held_out")
+    z, _, _ = synthetic_map("stationary", 4, shape=(32, 64))
+    z = z.copy()
+    z[:, 32:] *= 3.0
+    np.save(folder / "map.npy", z)
+    code = _main("fit", "ground", folder / "map.npy", "--part", "left", "--block", 12,
+                 "--blocks", 4, "--l-filter", "none", "--out", folder / "left.json")
+    assert code == 0
+    return folder
+
+
+def _main(*argv):
+    from roughgp.cli.main import main
+    return main([str(a) for a in argv])
+
+
+def test_fit_part_records_the_part_and_fits_on_it_alone(left_fit):
+    record = json.loads((left_fit / "left.json").read_text())
+    assert record["data"]["part"]["name"] == "left"
+    assert record["data"]["part"]["cols"] == [0, 32]
+    assert record["data"]["shape"] == [32, 32]
+
+
+def test_check_held_out_says_no_on_the_rougher_half(capsys, left_fit):
+    out = left_fit / "held.json"
+    code, text, err = _run(capsys, "check", left_fit / "left.json", left_fit / "map.npy",
+                           "--held-out", "--simulations", 9, "--json", out)
+    assert code == 0, err
+    assert "fitted part (left: rows 0:32, columns 0:32)" in text
+    assert "held out part (right: rows 0:32, columns 32:64)" in text
+    record = json.loads(out.read_text())
+    assert "Sq" in record["held_out"]["outside"]
+    assert "Sq" not in record["fitted"]["outside"]
+    assert "held-\n" not in text
+
+
+def test_check_tiles_maps_the_rough_side(capsys, left_fit, tmp_path):
+    code, text, err = _run(capsys, "check", left_fit / "left.json", left_fit / "map.npy",
+                           "--tiles", 1, 4, "--simulations", 9, "--plot", tmp_path / "t.png",
+                           "--json", tmp_path / "t.json")
+    assert code == 0, err
+    assert "Sq   2 of 4 tiles outside" in text or "Sq   3 of 4 tiles outside" in text
+    assert ". . + +" in text or "- . + +" in text or ". - + +" in text
+    assert (tmp_path / "t.png").stat().st_size > 0
+    assert json.loads((tmp_path / "t.json").read_text())["tiles"] == [1, 4]
+
+
+def test_check_part_and_predictive(capsys, left_fit):
+    code, text, err = _run(capsys, "check", left_fit / "left.json", left_fit / "map.npy",
+                           "--part", "0:32,40:64", "--predictive", 2, "--simulations", 4)
+    assert code == 0, err
+    assert "(part 0:32,40:64) against 4 predictive simulations" in text
+    assert "bootstrap measurement 2/2 refitted" in err
+
+
+@pytest.mark.parametrize("options, words", [
+    (("--held-out", "--part", "right"), "give one of them"),
+    (("--held-out", "--tiles", 2, 2), "cannot be combined with --held-out"),
+    (("--calibrate", 2, "--tiles", 2, 2), "cannot be combined with --tiles"),
+    (("--part", "0:40,0:20"), "--part '0:40,0:20': rows must lie in 0:32"),
+    (("--part", "middle"), "--part must be one of left, right, top, bottom"),
+    (("--tiles", 3, 1), "--tiles must be (m, n) with m in [1, 2] and n in [1, 4]"),
+    (("--predictive", 100), "--predictive must be in [1, 99]"),
+])
+def test_bad_out_of_sample_options_are_refused_before_any_work(capsys, left_fit, options,
+                                                               words):
+    code, _, err = _run(capsys, "check", left_fit / "left.json", left_fit / "map.npy", *options)
+    assert code == 2 and words in err, err
+    assert "simulating" not in err
+
+
+def test_held_out_needs_a_model_fitted_on_a_part(capsys, left_fit, tmp_path):
+    record = json.loads((left_fit / "left.json").read_text())
+    del record["data"]["part"]
+    (tmp_path / "whole.json").write_text(json.dumps(record))
+    code, _, err = _run(capsys, "check", tmp_path / "whole.json", left_fit / "map.npy",
+                        "--held-out")
+    assert code == 2 and "fit it with --part left" in err
