@@ -88,7 +88,8 @@ def refit_like(model: FittedModel, z, spacing=None) -> FittedModel:
     """``model``'s rung fitted again to ``z`` (NaN where unmeasured) the way ``model`` was
     fitted: the same equation (eq 18, its Matérn variant with the same nu, the 2-D spectral
     mixture, the measured PSD), marginal, F-, S- and L-operators (their resolved cut-offs), and
-    the block likelihood's block, number of blocks and seed (eq 18 and Matérn).
+    the likelihood (blocks or Whittle's), the block likelihood's block, number of blocks and
+    seed (eq 18 and Matérn).
 
     Raises:
         ValueError: for a profile model or a model of stage ``"filtered"`` (module docstring).
@@ -102,7 +103,8 @@ def refit_like(model: FittedModel, z, spacing=None) -> FittedModel:
                "degree": cut.get("degree", 2), "axis": cut.get("axis", "auto"),
                "marginal": _marginal_method(model), "seed": int(how.get("seed", 0))}
     if model.equation in ("eq18", "eq18-matern"):
-        options.update(block=int(how.get("block", 24)), n_blocks=int(how.get("n_blocks", 12)))
+        options.update(block=int(how.get("block", 24)), n_blocks=int(how.get("n_blocks", 12)),
+                       likelihood=how.get("likelihood", "blocks"))
     if model.equation == "eq18-matern":
         options["nu"] = float(hp["nu"])
     fitted, _ = fit_rung(RUNG_OF_EQUATION[model.equation], z,

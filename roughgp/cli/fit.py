@@ -61,7 +61,11 @@ _GROUND = """\
 Fit eq 18 (the rotated anisotropic exponential ACVF: variance, lambda_a along the lay,
 lambda_b across it, the lay angle) plus white noise (eq 8) to a measured surface, holes
 allowed: maximum block composite likelihood on the measured points of --blocks random
-windows of --block x --block points (roughgp.inference.block_fit). The model describes the
+windows of --block x --block points (roughgp.inference.block_fit), or with --likelihood
+whittle the debiased spatial Whittle likelihood of every measured point
+(roughgp.inference.whittle_fit: FFTs, its precision grows with the map; the block fit's does
+not, and on a 256 x 256 map it leaves the variance and lengths uncertain to about 20 %,
+benchmarks/fit_recovery.py). The model describes the
 heights after the F-operator (plane by default; --form cylinder for a curved part such as a
 bullet land). The S- and L-filters (default: no S-filter, the model's noise stands for the
 instrument's; the standard's L-filter, the largest preferred nesting index <= a fifth of the
@@ -138,6 +142,11 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     g.add_argument("--marginal", choices=("gaussian", "johnson", "iaaft"), default=None,
                    help="the heights' distribution (default gaussian; --non-gaussian is "
                         "johnson)")
+    g.add_argument("--likelihood", choices=("blocks", "whittle"), default="blocks",
+                   help="eq 18's (and the Matern rung's) likelihood: blocks (default: --blocks "
+                        "random blocks of --block x --block points) or whittle (the debiased "
+                        "spatial Whittle likelihood of every measured point: its precision "
+                        "grows with the map)")
     g.add_argument("--block", type=int, default=24, metavar="B",
                    help=f"side of the fit's blocks in points, {bounds_text('--block')} "
                         f"(default 24)")
@@ -233,7 +242,7 @@ def _fit_rungs(args, heights, operators, data, z):
     marginal = _marginal_choice(args)
     nu = args.nu if args.nu in (1.5, 2.5) else 1.5
     settings = dict(**operators, marginal=marginal, seed=args.seed, block=args.block,
-                    n_blocks=args.blocks, nu=nu, data=data)
+                    n_blocks=args.blocks, nu=nu, data=data, likelihood=args.likelihood)
     if args.rung == "auto":
         print(f"choosing a model for {args.file} by the kriging of held-out measured points:")
         print(f"  {'model':<7} {'held-out RMSE (um)':>19} {'+-2 sd held':>12} {'seconds':>8}")
@@ -298,7 +307,8 @@ def _fit_ground(args, heights, operators, data):
     try:
         result = fit_surface_model(z, heights.spacing, **operators, block=args.block,
                                    n_blocks=args.blocks, seed=args.seed, nu=args.nu,
-                                   marginal=_marginal_choice(args), data=data)
+                                   marginal=_marginal_choice(args), data=data,
+                                   likelihood=args.likelihood)
     except ValueError as exc:
         raise UsageError(f"{args.file}: {exc}") from None
     model, fit = result.model, result.block_fit
@@ -315,8 +325,12 @@ def _fit_ground(args, heights, operators, data):
     print(f"  lambda_b (across)     {hp['lambda_b_um']:>12.5g} um")
     print(f"  lay angle phi         {hp['angle_deg']:>12.2f} deg (from x, counter-clockwise)")
     print(f"  noise variance        {hp['noise_variance_um2']:>12.4g} um^2")
-    print(f"  block composite log likelihood {fit.log_likelihood:.6g} ({fit.n_points} "
-          f"measured points in {len(fit.blocks)} blocks of {args.block} x {args.block})")
+    if args.likelihood == "whittle":
+        print(f"  debiased Whittle log likelihood {fit.log_likelihood:.6g} (all "
+              f"{fit.n_points} measured points, {fit.n_frequencies} frequencies)")
+    else:
+        print(f"  block composite log likelihood {fit.log_likelihood:.6g} ({fit.n_points} "
+              f"measured points in {len(fit.blocks)} blocks of {args.block} x {args.block})")
     for note in result.range_notes:
         print_wrapped(f"note: {note}")
     _print_marginal(model)

@@ -3,7 +3,9 @@ r"""Fit a model of the ladder to a measured surface or profile and keep it as a
 
 * :func:`fit_surface_model`: the F-operator on the measured heights, then eq 18 (or its Matérn
   variant) plus white noise (eq 8) on the measured points alone by block composite likelihood
-  (:func:`roughgp.inference.block_fit.fit_ground_to_valid_points`): holes are allowed.
+  (:func:`roughgp.inference.block_fit.fit_ground_to_valid_points`) or, with
+  ``likelihood="whittle"``, by the debiased spatial Whittle likelihood of every measured point
+  (:func:`roughgp.inference.whittle_fit.fit_whittle`): holes are allowed.
 * :func:`fit_profile_model`: the F-operator (a line) on a profile, then the spectral mixture
   of eq 21 by the procedure of section 3.3
   (:func:`roughgp.inference.fitting.fit_spectral_mixture`).
@@ -48,6 +50,7 @@ import numpy as np
 from roughgp.common.checks import surface_array
 from roughgp.common.grid import normalize
 from roughgp.inference.block_fit import BlockFit, fit_ground_to_valid_points
+from roughgp.inference.whittle_fit import WhittleFit, fit_whittle
 from roughgp.inference.fitting import MIN_POINTS, SpectralMixtureFit, fit_spectral_mixture
 from roughgp.metrology.filters import Texture
 from roughgp.surface_models import psd_table
@@ -61,19 +64,24 @@ from roughgp.surface_models.in_range import keep_in_range
 from roughgp.surface_models.model import FittedModel
 from roughgp.surface_models.spectral_mixture import MAX_COMPONENTS, whittle_fit
 
-__all__ = ["SurfaceModelFit", "ProfileModelFit", "SmModelFit", "PsdModelFit", "fit_surface_model",
-           "fit_profile_model", "fit_sm_model", "fit_psd_model"]
+__all__ = ["LIKELIHOODS", "SurfaceModelFit", "ProfileModelFit", "SmModelFit", "PsdModelFit",
+           "fit_surface_model", "fit_profile_model", "fit_sm_model", "fit_psd_model"]
+
+#: the likelihoods of eq 18's fit: a few blocks (the default), or every point (Whittle)
+LIKELIHOODS = ("blocks", "whittle")
 
 
 @dataclasses.dataclass(frozen=True)
 class SurfaceModelFit:
     """What :func:`fit_surface_model` returns: the model, the measurement's chain
-    (``texture``), the block fit, and what :func:`~roughgp.surface_models.in_range.keep_in_range`
-    found out of range and did (``range_notes``)."""
+    (``texture``), the fit (a :class:`~roughgp.inference.block_fit.BlockFit` or a
+    :class:`~roughgp.inference.whittle_fit.WhittleFit`), and what
+    :func:`~roughgp.surface_models.in_range.keep_in_range` found out of range and did
+    (``range_notes``)."""
 
     model: FittedModel
     texture: Texture
-    block_fit: BlockFit
+    block_fit: BlockFit | WhittleFit
     range_notes: tuple = ()
 
 
@@ -94,7 +102,8 @@ def _marginal(heights, non_gaussian, marginal, texture=None, l_um=None):
 
 def fit_surface_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, axis="auto",
                       block=24, n_blocks=12, seed=0, non_gaussian=False, nu=0.5,
-                      data=None, stage="form-removed", marginal=None) -> SurfaceModelFit:
+                      data=None, stage="form-removed", marginal=None,
+                      likelihood="blocks") -> SurfaceModelFit:
     """Fit eq 18 plus noise to a measured surface ``z[iy, ix]`` (um, NaN where unmeasured).
 
     Args:
@@ -104,6 +113,10 @@ def fit_surface_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2,
         s, l: S- and L-filter nesting indices in um, ``"auto"`` or None (default: off).
         block, n_blocks, seed: the block composite likelihood's blocks
             (:func:`~roughgp.inference.block_fit.fit_ground_to_valid_points`).
+        likelihood: ``"blocks"`` (the block composite likelihood, the default) or
+            ``"whittle"`` (the debiased spatial Whittle likelihood of every measured point,
+            :func:`~roughgp.inference.whittle_fit.fit_whittle`: its precision grows with the
+            map; ``block`` and ``n_blocks`` are then not used).
         non_gaussian: keep the fitted heights' skewness and kurtosis in the model (the same as
             ``marginal="johnson"``).
         marginal: ``"gaussian"``, ``"johnson"`` or ``"iaaft"`` (the heights' quantile function,
@@ -120,8 +133,20 @@ def fit_surface_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2,
     _, (dy, dx) = normalize(arr.shape, spacing)
     start = time.perf_counter()
     texture, cutoffs, heights = measured_chain(arr, (dy, dx), form, s, l, degree, axis, stage)
-    fit = fit_ground_to_valid_points(heights, spacing=(dy, dx), block=block, n_blocks=n_blocks,
-                                     seed=seed, nu=nu)
+    if likelihood not in LIKELIHOODS:
+        raise ValueError(f"likelihood must be one of {', '.join(LIKELIHOODS)}, got "
+                         f"{likelihood!r}")
+    if likelihood == "whittle":
+        fit = fit_whittle(heights, spacing=(dy, dx), nu=nu)
+        how = {"method": "maximum debiased spatial Whittle likelihood of every measured point "
+                         "(roughgp.inference.whittle_fit)", "likelihood": "whittle",
+               "log_likelihood": fit.log_likelihood, "n_frequencies": fit.n_frequencies}
+    else:
+        fit = fit_ground_to_valid_points(heights, spacing=(dy, dx), block=block,
+                                         n_blocks=n_blocks, seed=seed, nu=nu)
+        how = {"method": "maximum block composite likelihood (roughgp.inference.block_fit)",
+               "log_likelihood": fit.log_likelihood, "block": block,
+               "n_blocks": len(fit.blocks)}
     g = fit.groove
     hyper = {"variance_um2": g.variance, "lambda_a_um": g.lengthscales[0],
              "lambda_b_um": g.lengthscales[1], "angle_deg": math.degrees(g.angle),
@@ -131,15 +156,13 @@ def fit_surface_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2,
     missing = ~np.isfinite(heights)
     described = {**(data or {}), "shape": list(arr.shape), "spacing_um": [dy, dx],
                  "missing_fraction": float(missing.mean()), "points_used": fit.n_points}
-    how = {"method": "maximum block composite likelihood (roughgp.inference.block_fit)",
-           "log_likelihood": fit.log_likelihood, "block": block, "n_blocks": len(fit.blocks),
-           "seed": seed, "seconds": round(time.perf_counter() - start, 2)}
+    how.update(seed=seed, seconds=round(time.perf_counter() - start, 2))
     model = FittedModel("eq18" if nu == 0.5 else "eq18-matern", hyper, (dy, dx),
                         _marginal(heights, non_gaussian, marginal,
                                   texture if stage == "form-removed" else None,
                                   cutoffs["l_um"]), tuple(texture.operators),
                         cutoffs, described, how, stage)
-    model, notes = keep_in_range(model, arr.shape, block)
+    model, notes = keep_in_range(model, arr.shape, block if likelihood == "blocks" else None)
     return SurfaceModelFit(model, texture, fit, tuple(notes))
 
 

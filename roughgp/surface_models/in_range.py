@@ -42,15 +42,16 @@ def _field(shape, spacing) -> float:
 
 def range_findings(model: FittedModel, shape, block) -> list:
     """What is out of range in a fitted surface model on a field of ``shape`` (points), fitted
-    with blocks of ``block`` points: one sentence per finding (empty: none)."""
+    with blocks of ``block`` points (None: a fit of the whole field, whose bound lies far beyond
+    it): one sentence per finding (empty: none)."""
     if model.kind != "surface":
         return []
     hp = model.hyperparameters
     field = _field(shape, model.spacing)
-    bound = _BOUND_BLOCKS * block * max(model.spacing)
+    bound = None if block is None else _BOUND_BLOCKS * block * max(model.spacing)
     found = []
     for name in ("lambda_a_um", "lambda_b_um"):
-        if hp[name] >= 0.98 * bound:
+        if bound is not None and hp[name] >= 0.98 * bound:
             found.append(f"{name} = {hp[name]:.4g} um lies on the fit's upper bound "
                          f"({bound:.4g} um, {_BOUND_BLOCKS:g} blocks)")
         elif hp[name] > FAR_BEYOND * field:

@@ -88,9 +88,11 @@ class LadderChoice:
 
 
 def fit_rung(name, z, spacing, *, form="plane", s=None, l=None, degree=2, axis="auto",
-             marginal="gaussian", seed=0, block=24, n_blocks=12, nu=1.5, data=None):
+             marginal="gaussian", seed=0, block=24, n_blocks=12, nu=1.5, data=None,
+             likelihood="blocks"):
     """``(model, range_notes)``: rung ``name`` (:data:`RUNGS`) fitted to ``z`` (NaN where
-    unmeasured); ``nu``: the Matérn rung's smoothness (1.5 or 2.5)."""
+    unmeasured); ``nu``: the Matérn rung's smoothness (1.5 or 2.5); ``likelihood``: eq 18's
+    and the Matérn rung's (:data:`~roughgp.surface_models.fit.LIKELIHOODS`)."""
     chain = dict(form=form, s=s, l=l, degree=degree, axis=axis, seed=seed, data=data)
     if name == "psd":
         return fit_psd_model(z, spacing, marginal=marginal, **chain).model, ()
@@ -102,7 +104,7 @@ def fit_rung(name, z, spacing, *, form="plane", s=None, l=None, degree=2, axis="
     if name == "matern" and nu not in (1.5, 2.5):
         raise ValueError(f"nu of the matern rung must be 1.5 or 2.5, got {nu!r}")
     result = fit_surface_model(z, spacing, block=block, n_blocks=n_blocks, marginal=marginal,
-                               nu=0.5 if name == "eq18" else nu, **chain)
+                               nu=0.5 if name == "eq18" else nu, likelihood=likelihood, **chain)
     return result.model, result.range_notes
 
 
@@ -129,11 +131,12 @@ def _better(rungs):
 
 def choose_model(z, spacing=1.0, *, rungs=RUNGS, form="plane", s=None, l=None, degree=2,
                  axis="auto", marginal="gaussian", seed=0, block=24, n_blocks=12, nu=1.5,
-                 data=None, progress=None) -> LadderChoice:
+                 data=None, progress=None, likelihood="blocks") -> LadderChoice:
     """Fit each of ``rungs`` to ``z`` without held-out measured points, score the kriging of
     those, choose, and fit the chosen rung on all points (module docstring). ``progress``:
     called with each :class:`Rung` as it is scored. Raises ``ValueError`` when too few points
-    are measured to hold some out."""
+    are measured to hold some out. ``likelihood``: eq 18's and the Matérn rung's
+    (:func:`fit_rung`)."""
     arr = surface_array(z)
     unknown = [r for r in rungs if r not in RUNGS]
     if unknown or not rungs:
@@ -141,7 +144,8 @@ def choose_model(z, spacing=1.0, *, rungs=RUNGS, form="plane", s=None, l=None, d
                          f"{list(rungs)!r}")
     _, spacing = normalize(arr.shape, spacing)
     settings = dict(form=form, s=s, l=l, degree=degree, axis=axis, marginal=marginal,
-                    seed=seed, block=block, n_blocks=n_blocks, nu=nu, data=data)
+                    seed=seed, block=block, n_blocks=n_blocks, nu=nu, data=data,
+                    likelihood=likelihood)
     residual = form_removed(arr, spacing, {"form": form, "degree": degree, "axis": axis}).sl
     held_out = held_out_points(np.isfinite(residual), seed)
     if held_out is None:

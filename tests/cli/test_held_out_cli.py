@@ -94,3 +94,19 @@ def test_held_out_needs_a_model_fitted_on_a_part(capsys, left_fit, tmp_path):
     code, _, err = _run(capsys, "check", tmp_path / "whole.json", left_fit / "map.npy",
                         "--held-out")
     assert code == 2 and "fit it with --part left" in err
+
+
+def test_fit_whittle_is_recorded_and_refitted_alike(capsys, left_fit, tmp_path):
+    from roughgp.checking.predictive import bootstrap_models
+    from roughgp.surface_models.model import FittedModel
+    code, text, err = _run(capsys, "fit", "ground", left_fit / "map.npy", "--part", "left",
+                           "--likelihood", "whittle", "--l-filter", "none",
+                           "--out", tmp_path / "w.json")
+    assert code == 0, err
+    assert "debiased Whittle log likelihood" in text and "all 1024 measured points" in text
+    model = FittedModel.load(tmp_path / "w.json")
+    assert model.fit["likelihood"] == "whittle"
+    refit, = bootstrap_models(model, 1, seed=0)
+    assert refit.fit["likelihood"] == "whittle"
+    code, _, err = _run(capsys, "fit", "ground", left_fit / "map.npy", "--likelihood", "exact")
+    assert code == 2 and "--likelihood" in err and "'blocks', 'whittle'" in err
