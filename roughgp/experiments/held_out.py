@@ -32,7 +32,6 @@ calibrated says "outside" in about 10 % of the cases per parameter out of sample
 from __future__ import annotations
 
 import dataclasses
-import json
 import time
 from pathlib import Path
 
@@ -42,6 +41,7 @@ from roughgp.checking.held_out import part_of
 from roughgp.checking.model_check import SURFACE_PARAMETERS, check_model
 from roughgp.checking.predictive import bootstrap_models, recentred
 from roughgp.checking.tiles import TILE_PARAMETERS, tile_check
+from roughgp.common.jsonl import read_records
 from roughgp.experiments.check_calibration import CASES
 from roughgp.experiments.model_check import synthetic_holes
 from roughgp.surface_models.fit import fit_surface_model
@@ -109,14 +109,17 @@ def synthetic_map(kind, index, *, shape=SHAPE, seed=0):
     return z, left, right
 
 
-def held_out_case(kind, index, *, shape=SHAPE, n_simulations=19, n_models=9, seed=0) -> dict:
+def held_out_case(kind, index, *, shape=SHAPE, n_simulations=19, n_models=9, seed=0,
+                  likelihood="blocks") -> dict:
     """One case (module docstring): the fitted hyperparameters, the parameters outside per
-    variant, the tile check's outside shares per half, and the seconds taken."""
+    variant, the tile check's outside shares per half, and the seconds taken. ``likelihood``:
+    the fit's (:data:`~roughgp.surface_models.fit.LIKELIHOODS`; ``"whittle"`` uses every point
+    of the half instead of the blocks)."""
     began = time.perf_counter()
     z, _, truth_right = synthetic_map(kind, index, shape=shape, seed=seed)
     fitted_part, held_part = part_of(z.shape, "left"), part_of(z.shape, "right")
     fitted = fit_surface_model(fitted_part.cut(z), 1.0, block=_BLOCK, n_blocks=_N_BLOCKS,
-                               seed=seed + index).model
+                               seed=seed + index, likelihood=likelihood).model
     a, b = fitted_part.cut(z), held_part.cut(z)
     check_seed = int(np.random.default_rng([seed, index, 7]).integers(2**31))
     options = dict(n_simulations=n_simulations, seed=check_seed)
@@ -135,6 +138,7 @@ def held_out_case(kind, index, *, shape=SHAPE, n_simulations=19, n_models=9, see
                           "right": float(tiles.outside[:, n_cols:, k].mean())}
                    for k, name in enumerate(tiles.names)}
     return {"kind": kind, "index": int(index), "seed": int(seed), "shape": list(shape),
+            "likelihood": likelihood,
             "n_simulations": int(n_simulations), "n_models": int(n_models),
             "fitted": {k: float(v) for k, v in fitted.hyperparameters.items()},
             "truth_right": {k: float(v) for k, v in truth_right.hyperparameters.items()},
@@ -142,34 +146,42 @@ def held_out_case(kind, index, *, shape=SHAPE, n_simulations=19, n_models=9, see
             "seconds": round(time.perf_counter() - began, 2)}
 
 
-def outside_shares(records, kind, variant, names=SURFACE_PARAMETERS) -> dict | None:
-    """``{parameter: share of the cases outside}`` of ``kind``'s records under ``variant``
-    (None when no record has it), with ``"cases"`` their number and ``"mean"`` the share
-    averaged over ``names``."""
-    rows = [r for r in records if r["kind"] == kind and variant in r["outside"]]
+def _fitted_by(record) -> str:
+    return record.get("likelihood", "blocks")
+
+
+def outside_shares(records, kind, variant, names=SURFACE_PARAMETERS,
+                   likelihood="blocks") -> dict | None:
+    """``{parameter: share of the cases outside}`` of ``kind``'s records fitted with
+    ``likelihood`` under ``variant`` (None when no record has it), with ``"cases"`` their
+    number and ``"mean"`` the share averaged over ``names``."""
+    rows = [r for r in records if r["kind"] == kind and variant in r["outside"]
+            and _fitted_by(r) == likelihood]
     if not rows:
         return None
     shares = {n: float(np.mean([n in r["outside"][variant] for r in rows])) for n in names}
     return {**shares, "mean": float(np.mean(list(shares.values()))), "cases": len(rows)}
 
 
-def tile_shares(records, kind, side, names=TILE_PARAMETERS) -> dict | None:
-    """The tile check's mean outside share per parameter of ``kind``'s records on ``side``
-    (``"left"``, fitted, or ``"right"``, held out)."""
-    rows = [r for r in records if r["kind"] == kind]
+def tile_shares(records, kind, side, names=TILE_PARAMETERS, likelihood="blocks") -> dict | None:
+    """The tile check's mean outside share per parameter of ``kind``'s records fitted with
+    ``likelihood`` on ``side`` (``"left"``, fitted, or ``"right"``, held out)."""
+    rows = [r for r in records if r["kind"] == kind and _fitted_by(r) == likelihood]
     if not rows:
         return None
     return {n: float(np.mean([r["tiles"][n][side] for r in rows])) for n in names}
 
 
-def shares_table(records, names=("Sq", "Sa", "Sk", "Sal", "Str", "Std")) -> str:
-    """A Markdown table: per kind and variant, the cases, the share outside averaged over the
-    13 parameters and for ``names``; then the tile check's shares."""
+def shares_table(records, names=("Sq", "Sa", "Sk", "Sal", "Str", "Std"),
+                 likelihood="blocks") -> str:
+    """A Markdown table of the records fitted with ``likelihood``: per kind and variant, the
+    cases, the share outside averaged over the 13 parameters and for ``names``; then the tile
+    check's shares."""
     head = ["kind", "check", "cases", "mean of 13", *names]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for kind in KINDS:
         for variant in VARIANTS:
-            s = outside_shares(records, kind, variant)
+            s = outside_shares(records, kind, variant, likelihood=likelihood)
             if s is None:
                 continue
             lines.append(f"| {kind} | {variant} | {s['cases']} | {s['mean']:.0%} | "
@@ -178,7 +190,7 @@ def shares_table(records, names=("Sq", "Sa", "Sk", "Sal", "Str", "Std")) -> str:
               "|---|---|" + "---|" * len(TILE_PARAMETERS)]
     for kind in KINDS:
         for side, label in (("left", "fitted half"), ("right", "held-out half")):
-            s = tile_shares(records, kind, side)
+            s = tile_shares(records, kind, side, likelihood=likelihood)
             if s is not None:
                 lines.append(f"| {kind} | {label} | "
                              + " | ".join(f"{s[n]:.0%}" for n in TILE_PARAMETERS) + " |")
@@ -188,17 +200,13 @@ def shares_table(records, names=("Sq", "Sa", "Sk", "Sal", "Str", "Std")) -> str:
 def load_records(path=RECORDED) -> list:
     """The cases recorded in the JSONL file ``path`` (one :func:`held_out_case` a line; none
     when the file does not exist)."""
-    path = Path(path)
-    if not path.exists():
-        return []
-    return [json.loads(line) for line in path.read_text(encoding="utf-8").splitlines()
-            if line.strip()]
+    return read_records(path)
 
 
-def plot_outside_shares(records, names=("mean", "Sq"), variants=VARIANTS):
+def plot_outside_shares(records, names=("mean", "Sq"), variants=VARIANTS, likelihood="blocks"):
     """One panel per entry of ``names`` (``"mean"``: the share averaged over the 13
-    parameters): per kind, a bar per variant for the share of cases outside, and the check's
-    level 2 / (n + 1). Returns the figure."""
+    parameters): per kind, a bar per variant for the share of cases outside (the records
+    fitted with ``likelihood``), and the check's level 2 / (n + 1). Returns the figure."""
     import matplotlib.pyplot as plt
     level = 2.0 / (records[0]["n_simulations"] + 1)
     fig, axes = plt.subplots(1, len(names), figsize=(8.8, 3.0), sharey=True,
@@ -208,7 +216,8 @@ def plot_outside_shares(records, names=("mean", "Sq"), variants=VARIANTS):
     x = np.arange(len(KINDS))
     for ax, name in zip(axes, names):
         for v, variant in enumerate(variants):
-            shares = [outside_shares(records, kind, variant) for kind in KINDS]
+            shares = [outside_shares(records, kind, variant, likelihood=likelihood)
+                      for kind in KINDS]
             ax.bar(x + (v - (len(variants) - 1) / 2) * width,
                    [100 * s[name] if s else np.nan for s in shares], width, label=variant)
         ax.axhline(100 * level, color="k", ls="--", lw=0.8)
