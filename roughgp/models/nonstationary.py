@@ -6,8 +6,9 @@ S(x) = T_phi^T diag(lambda_a^2, lambda_b^2) T_phi is the local matrix whose inve
 quadratic form, ``q = tau^T S^-1 tau = |Lambda^-1 T_phi tau|^2``.
 
 * :func:`paciorek_covariance`: the closed form of Paciorek & Schervish (2006, theorem 1),
-  C(x, x') = s(x) s(x') |S|^1/4 |S'|^1/4 |(S + S')/2|^-1/2 rho(Q),
-  Q = (x - x')^T ((S + S')/2)^-1 (x - x'), with rho(Q) = exp(-sqrt Q) (eq 18, the default;
+  :math:`C(x, x') = s(x) s(x') |S|^{1/4} |S'|^{1/4} |(S + S')/2|^{-1/2} \rho(Q)`,
+  :math:`Q = (x - x')^\top ((S + S')/2)^{-1} (x - x')`, with
+  :math:`\rho(Q) = e^{-\sqrt Q}` (eq 18, the default;
   theorem 1 holds for any correlation valid in every dimension) or exp(-Q) (their squared
   exponential). With constant parameters it is eq 18 to rounding.
 * :func:`sample_nonstationary`: white noise smoothed by a kernel that changes with position,
