@@ -87,6 +87,14 @@ class TileCheck:
         """The share of outside tiles for a model that describes the surface, 2 / (N + 1)."""
         return 2.0 / (self.n_simulations + 1)
 
+    @property
+    def side(self) -> np.ndarray:
+        """``(m, n, P)``: +1 where the measured value lies above every simulation, -1 below
+        every one, 0 within."""
+        finite = np.isfinite(self.simulated)
+        high = np.where(finite, self.simulated, -np.inf).max(axis=0)
+        return np.where(self.outside, np.where(self.measured > high, 1, -1), 0)
+
     def outside_share(self, name) -> float:
         """The share of the tiles where ``name`` lies outside the simulated range."""
         return float(self.outside[..., self.names.index(name)].mean())
@@ -183,11 +191,9 @@ def plot_tile_check(check: TileCheck, path=None, *, title=None):
     p = len(check.names)
     fig, axes = plt.subplots(1, p, figsize=(1.7 * p + 0.4, 2.3), squeeze=False)
     colours = ListedColormap(["tab:blue", "0.85", "tab:red"])
-    finite = np.isfinite(check.simulated)
-    high = np.where(finite, check.simulated, -np.inf).max(axis=0)
+    sides = check.side
     for k, (ax, name) in enumerate(zip(axes.flat, check.names)):
-        side = np.where(check.outside[..., k],
-                        np.where(check.measured[..., k] > high[..., k], 1, -1), 0)
+        side = sides[..., k]
         ax.imshow(side, cmap=colours, vmin=-1, vmax=1)
         ax.set_xticks([])
         ax.set_yticks([])

@@ -312,8 +312,6 @@ def _held_out(args, model, z, spacing, models, fitted_part, start, json_out, plo
 
 def _tiles(args, model, z, spacing, models, start, json_out, plot, spacing_note) -> int:
     """``check --tiles M N``: the outside tiles per parameter, as counts and a text map."""
-    import numpy as np
-
     from roughgp.checking.tiles import tile_check
     result = tile_check(model, z, spacing, tiles=tuple(args.tiles),
                         n_simulations=args.simulations, seed=args.seed, models=models)
@@ -325,17 +323,14 @@ def _tiles(args, model, z, spacing, models, start, json_out, plot, spacing_note)
     print_wrapped(f"model: {model.describe()}")
     for note in (*((spacing_note,) if spacing_note else ()), *result.notes):
         print_wrapped(f"note: {note}")
-    finite = np.isfinite(result.simulated)
-    high = np.where(finite, result.simulated, -np.inf).max(axis=0)
     print_wrapped(f"each tile outside with probability {result.expected_share:.0%} for a model "
                   f"that describes the surface; map: + above every simulation, - below, . within")
+    marks = {1: "+", -1: "-", 0: "."}
     for k, name in enumerate(result.names):
-        out = result.outside[..., k]
-        print(f"  {name:<4} {int(out.sum())} of {out.size} tiles outside")
-        for i in range(m):
-            marks = ["+" if out[i, j] and result.measured[i, j, k] > high[i, j, k] else
-                     "-" if out[i, j] else "." for j in range(n)]
-            print("       " + " ".join(marks))
+        side = result.side[..., k]
+        print(f"  {name:<4} {int((side != 0).sum())} of {side.size} tiles outside")
+        for row in side:
+            print("       " + " ".join(marks[int(s)] for s in row))
     if json_out is not None:
         write_json(json_out, {"file": str(args.file), "model": str(args.model),
                               "seed": args.seed, "simulations": draws, **result.to_dict()})

@@ -64,8 +64,8 @@ allowed: maximum block composite likelihood on the measured points of --blocks r
 windows of --block x --block points (roughgp.inference.block_fit), or with --likelihood
 whittle the debiased spatial Whittle likelihood of every measured point
 (roughgp.inference.whittle_fit: FFTs, its precision grows with the map; the block fit's does
-not, and on a 256 x 256 map it leaves the variance and lengths uncertain to about 20 %,
-benchmarks/fit_recovery.py). The model describes the
+not: on a 256 x 256 map it leaves the variance and lengths uncertain to about 15 %, the
+Whittle fit to 13 % and at 512 x 512 to 7 %, benchmarks/fit_recovery.py). The model describes the
 heights after the F-operator (plane by default; --form cylinder for a curved part such as a
 bullet land). The S- and L-filters (default: no S-filter, the model's noise stands for the
 instrument's; the standard's L-filter, the largest preferred nesting index <= a fifth of the

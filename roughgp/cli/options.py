@@ -15,7 +15,7 @@ from roughgp.cli.bounds import bounds_text
 from roughgp.cli.output import UsageError, err
 from roughgp.common.checks import check_scale
 
-__all__ = ['add_part_option', 'crop_to_part', "cutoff", "add_form_options",
+__all__ = ["add_part_option", "crop_to_part", "cutoff", "add_form_options",
            "add_operator_options", "operator_settings", "check_cutoffs", "load_model",
            "check_scales", "seed_or_fresh", "read_input", "Given", "add_l_kind_options",
            "add_spurious_options", "remove_spurious"]
@@ -101,7 +101,7 @@ def read_input(args, kind="auto"):
                 unit=args.unit)
 
 
-PART_HELP = ("fit (or check, texture) only this part of the map: left, right, top or "
+PART_HELP = ("fit (or check) only this part of the map: left, right, top or "
              "bottom (a half; top: the first rows), or R0:R1,C0:C1 (row and column index "
              "ranges, half-open); the part is recorded in the model file so that 'roughgp "
              "check --held-out' checks the model on the part it did not see")

@@ -86,11 +86,6 @@ class WhittleFit:
     n_frequencies: int
     nu: float = 0.5
 
-    @property
-    def blocks(self) -> tuple:
-        """No blocks: every measured point is used (for code written for a block fit)."""
-        return ()
-
 
 class WhittleLikelihood:
     r""":math:`\ell_W` of the centred heights ``y`` (0 where unmeasured) with the measured map

@@ -41,6 +41,7 @@ def test_the_tile_map_shows_the_rough_side():
     assert result.outside[0, 2:, k].all()
     assert result.outside[0, :2, k].sum() <= 1
     assert (result.measured[0, 2:, k] > result.simulated[:, 0, 2:, k].max(axis=0)).all()
+    assert (result.side[0, 2:, k] == 1).all() and (result.side != 0).sum() == result.outside.sum()
     assert result.expected_share == pytest.approx(0.1)
     assert 0.5 <= result.outside_share("Sq") <= 0.75
     record = result.to_dict()
