@@ -21,7 +21,9 @@ from roughgp.cli.options import (
     read_input,
     remove_spurious,
 )
-from roughgp.cli.output import UsageError, add_force_option, check_outputs, err, print_wrapped
+from roughgp.cli.output import (
+    UsageError, add_force_option, check_device, check_outputs, err, print_wrapped,
+)
 from roughgp.io.measurement import mean_profile
 from roughgp.io.writers import atomic_output
 
@@ -147,6 +149,9 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                         "random blocks of --block x --block points) or whittle (the debiased "
                         "spatial Whittle likelihood of every measured point: its precision "
                         "grows with the map)")
+    g.add_argument("--device", metavar="DEV",
+                   help="--likelihood whittle: compute its FFTs and gradient through torch on "
+                        "DEV (cpu, cuda, cuda:N); --model eq18 only")
     g.add_argument("--block", type=int, default=24, metavar="B",
                    help=f"side of the fit's blocks in points, {bounds_text('--block')} "
                         f"(default 24)")
@@ -160,6 +165,7 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
 
 def run(args) -> int:
     """``roughgp fit MODEL FILE``."""
+    _check_fit_device(args)
     operators = operator_settings(args)
     (out,) = check_outputs(("--out", args.out, "json"), inputs=(args.file,), force=args.force)
     heights = read_input(args, getattr(args, "kind", "surface"))
@@ -185,6 +191,20 @@ def run(args) -> int:
             model.save(partial)
         err(f"wrote {out} (roughgp model file; roughgp simulate --from {out.name} ...)")
     return 0
+
+
+def _check_fit_device(args) -> None:
+    """``--device`` is for eq 18's Whittle fit alone (the block fit and the other rungs have no
+    device path): refused elsewhere, and a device this machine lacks refused, before any
+    work."""
+    device = getattr(args, "device", None)
+    if device is None:
+        return
+    if args.rung != "eq18" or args.likelihood != "whittle":
+        raise UsageError(f"--device applies to --model eq18 with --likelihood whittle only "
+                         f"(got --model {args.rung}, --likelihood {args.likelihood}); leave "
+                         f"--device out or add --likelihood whittle")
+    check_device(device)
 
 
 def _fit_profile(args, heights, operators, data):
@@ -308,7 +328,7 @@ def _fit_ground(args, heights, operators, data):
         result = fit_surface_model(z, heights.spacing, **operators, block=args.block,
                                    n_blocks=args.blocks, seed=args.seed, nu=args.nu,
                                    marginal=_marginal_choice(args), data=data,
-                                   likelihood=args.likelihood)
+                                   likelihood=args.likelihood, device=args.device)
     except ValueError as exc:
         raise UsageError(f"{args.file}: {exc}") from None
     model, fit = result.model, result.block_fit

@@ -40,6 +40,11 @@ number of measured points, at :math:`O(N \log N)` a likelihood evaluation. The g
 from torch's automatic differentiation; L-BFGS-B searches the log scales and the angle within
 the block fit's bounds, from the best two of its starts. The optimum is reported with
 :math:`\lambda_a \ge \lambda_b` and :math:`\phi \in [-\pi/2, \pi/2)`.
+
+With ``device=`` (:mod:`roughgp.common.device`) the FFTs, the expected periodogram and its
+gradient run through torch on that device (a CUDA GPU); the optimiser stays on the CPU and
+receives the value and the gradient as numbers, so a fit on a GPU takes the same path as on
+the CPU, up to rounding. ``benchmarks/device.py`` (case ``whittle fit``) times both.
 """
 
 from __future__ import annotations
@@ -62,6 +67,9 @@ EXCLUDED_LOWEST = 1
 MIN_POINTS = 16  #: the fewest rows and columns of a map this fit takes
 _NAMES = ("variance", "lambda_a", "lambda_b", "angle", "noise_variance")
 _ANGLE = 3
+# float64 arrays of the (2 ny) x (2 nx) lag grid held at once per likelihood evaluation (lags,
+# covariance, the autocorrelation of the measured points, autograd's copies), per map point
+_BYTES_PER_POINT = 4 * 8 * 24
 
 
 @dataclass(frozen=True)
@@ -90,30 +98,39 @@ class WhittleFit:
 class WhittleLikelihood:
     r""":math:`\ell_W` of the centred heights ``y`` (0 where unmeasured) with the measured map
     ``valid`` (module docstring), as a function of
-    ``u = (log variance, log lambda_a, log lambda_b, angle, log noise)``."""
+    ``u = (log variance, log lambda_a, log lambda_b, angle, log noise)``; ``device`` (None:
+    torch on the CPU) is where its tensors live."""
 
-    def __init__(self, y, valid, spacing, nu=0.5):
+    def __init__(self, y, valid, spacing, nu=0.5, device=None):
         import torch
+
+        from roughgp.common import device as devices
         self._torch = torch
         self.nu = nu
+        self.device = devices.resolve(device) or torch.device("cpu")
         ny, nx = y.shape
-        m = torch.as_tensor(valid, dtype=torch.float64)
-        data = torch.as_tensor(np.where(valid, y, 0.0), dtype=torch.float64)
+        devices.check_memory(_BYTES_PER_POINT * ny * nx, self.device, "the Whittle likelihood")
+        m = torch.as_tensor(valid, dtype=torch.float64, device=self.device)
+        data = torch.as_tensor(np.where(valid, y, 0.0), dtype=torch.float64, device=self.device)
         count = float(m.sum())
         self.periodogram = torch.fft.fft2(data).abs() ** 2 / count
         spectrum = torch.fft.fft2(m, s=(2 * ny, 2 * nx))
         self._g = torch.fft.ifft2(spectrum.abs() ** 2).real / count   # lags in FFT order
         dy, dx = (float(s) for s in spacing)
-        ky = torch.fft.fftfreq(2 * ny, 1.0 / (2 * ny), dtype=torch.float64)
-        kx = torch.fft.fftfreq(2 * nx, 1.0 / (2 * nx), dtype=torch.float64)
+        ky = torch.fft.fftfreq(2 * ny, 1.0 / (2 * ny), dtype=torch.float64, device=self.device)
+        kx = torch.fft.fftfreq(2 * nx, 1.0 / (2 * nx), dtype=torch.float64, device=self.device)
         ty, tx = torch.meshgrid(ky * dy, kx * dx, indexing="ij")
         self._lags = torch.stack([tx, ty], dim=-1)
         self._shape = (ny, nx)
-        fy = torch.fft.fftfreq(ny, 1.0 / ny).abs()
-        fx = torch.fft.fftfreq(nx, 1.0 / nx).abs()
+        fy = torch.fft.fftfreq(ny, 1.0 / ny, device=self.device).abs()
+        fx = torch.fft.fftfreq(nx, 1.0 / nx, device=self.device).abs()
         low = (fy[:, None] <= EXCLUDED_LOWEST) & (fx[None, :] <= EXCLUDED_LOWEST)
         self._keep = ~low
         self.n_frequencies = int(self._keep.sum())
+
+    def _parameters(self, u):
+        return self._torch.as_tensor(np.asarray(u, dtype=np.float64), dtype=self._torch.float64,
+                                     device=self.device)
 
     def expected(self, u):
         r""":math:`\bar I` on the grid's Fourier frequencies at ``u`` (a float64 tensor)."""
@@ -137,26 +154,26 @@ class WhittleLikelihood:
         """``(ell_W, d ell_W / d u)`` at ``u`` (numpy); ``(-inf, zeros)`` where the expected
         periodogram is not positive."""
         torch = self._torch
-        t = torch.as_tensor(np.asarray(u, dtype=np.float64), dtype=torch.float64)
+        t = self._parameters(u)
         t.requires_grad_(True)
         expected = self.expected(t)[self._keep]
         if not bool((expected > 0).all()):
             return -math.inf, np.zeros(len(_NAMES))
         value = -(torch.log(expected) + self.periodogram[self._keep] / expected).sum()
         value.backward()
-        return float(value.detach()), t.grad.detach().numpy().copy()
+        return float(value.detach()), t.grad.detach().cpu().numpy().copy()
 
     def value(self, u) -> float:
         torch = self._torch
         with torch.no_grad():
-            expected = self.expected(torch.as_tensor(np.asarray(u, dtype=np.float64)))
+            expected = self.expected(self._parameters(u))
         expected = expected[self._keep]
         if not bool((expected > 0).all()):
             return -math.inf
         return float(-(torch.log(expected) + self.periodogram[self._keep] / expected).sum())
 
 
-def fit_whittle(z, *, spacing=1.0, mask=None, nu=0.5, maxiter=500) -> WhittleFit:
+def fit_whittle(z, *, spacing=1.0, mask=None, nu=0.5, maxiter=500, device=None) -> WhittleFit:
     """Fit eq 18 plus white noise (eq 8) to all measured points of ``z`` by the debiased
     spatial Whittle likelihood (module docstring).
 
@@ -167,6 +184,8 @@ def fit_whittle(z, *, spacing=1.0, mask=None, nu=0.5, maxiter=500) -> WhittleFit
         mask: optional boolean array like ``z``; True marks points to leave out as well.
         nu: 0.5 (eq 18), 1.5 or 2.5 (the Matérn variant).
         maxiter: L-BFGS-B iterations (at most), an integer >= 1.
+        device: None (torch on the CPU) or a torch device such as ``"cuda"``
+            (:mod:`roughgp.common.device`): where the likelihood and its gradient are computed.
 
     Returns:
         :class:`WhittleFit`.
@@ -195,7 +214,7 @@ def fit_whittle(z, *, spacing=1.0, mask=None, nu=0.5, maxiter=500) -> WhittleFit
     var = float(np.mean(centred[valid] ** 2))
     if not var > 0:
         raise ValueError("the measured heights of z are constant")
-    likelihood = WhittleLikelihood(centred, valid, spacing, nu)
+    likelihood = WhittleLikelihood(centred, valid, spacing, nu, device)
     d = float(np.min(spacing))
     extent = float(max(z.shape[0] * spacing[0], z.shape[1] * spacing[1]))
     scale = (math.log(d / 20.0), math.log(50.0 * extent))
