@@ -11,6 +11,7 @@ import time
 import numpy as np
 
 from roughgp.cli.bounds import bounds_text, check_block
+from roughgp.surface_models.schema import MAX_ANCHORS
 from roughgp.cli.options import (
     add_operator_options,
     add_part_option,
@@ -85,6 +86,12 @@ simulations are then Johnson-transformed GPs, roughgp.non_gaussian).
           for structured or periodic surfaces;
   psd     the measured PSD itself, smoothed (roughgp.surface_models.measured_psd): no
           parametric form, the bound of what any stationary Gaussian model can do on the file;
+  field   eq 18 whose variance, lengths and lay vary over the map
+          (roughgp.surface_models.field_model): eq 18 fitted on each of --anchors M N tiles
+          by the Whittle likelihood, pooled by random effects (a tile keeps its own value
+          only as far as its fit is sure of it; a gradient is kept where a test finds one),
+          interpolated between the tiles' centres; Gaussian heights; for a surface whose
+          roughness or lay changes across the part (not among auto's choices);
   auto    fits the four without 2 % of the measured points (held out in small discs),
           predicts those by kriging with each model's covariance, prints one line per model
           (held-out RMSE, seconds) and keeps the simplest within one standard error of the
@@ -137,7 +144,8 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     g.add_argument("--nu", type=float, choices=(0.5, 1.5, 2.5), default=0.5,
                    help="smoothness: 0.5 is eq 18 (default); 1.5 or 2.5 its anisotropy with a "
                         "smoother Matern profile, for smooth surfaces (beyond the paper)")
-    g.add_argument("--model", dest="rung", choices=("eq18", "matern", "sm", "psd", "auto"),
+    g.add_argument("--model", dest="rung",
+                   choices=("eq18", "matern", "sm", "psd", "field", "auto"),
                    default="eq18", help="the model: eq18 (default), matern, sm (a 2-D spectral "
                    "mixture of up to 4 components, Q by BIC, for lays and periods), psd (the "
                    "measured PSD) or auto (chosen by a held-out score; see above)")
@@ -149,9 +157,12 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                         "random blocks of --block x --block points) or whittle (the debiased "
                         "spatial Whittle likelihood of every measured point: its precision "
                         "grows with the map)")
+    g.add_argument("--anchors", type=int, nargs=2, default=None, metavar=("M", "N"),
+                   help="--model field: the fields' anchors, the centres of M x N tiles of "
+                        "at least 16 x 16 points, M and N in [1, 32] (default 4 4)")
     g.add_argument("--device", metavar="DEV",
-                   help="--likelihood whittle: compute its FFTs and gradient through torch on "
-                        "DEV (cpu, cuda, cuda:N); --model eq18 only")
+                   help="--likelihood whittle or --model field: compute the Whittle fits' "
+                        "FFTs and gradients through torch on DEV (cpu, cuda, cuda:N)")
     g.add_argument("--block", type=int, default=24, metavar="B",
                    help=f"side of the fit's blocks in points, {bounds_text('--block')} "
                         f"(default 24)")
@@ -198,13 +209,28 @@ def _check_fit_device(args) -> None:
     device path): refused elsewhere, and a device this machine lacks refused, before any
     work."""
     device = getattr(args, "device", None)
+    anchors = getattr(args, "anchors", None)
+    if anchors is not None:
+        if args.rung != "field":
+            raise UsageError(f"--anchors applies to --model field only (got --model "
+                             f"{args.rung})")
+        if not all(1 <= a <= MAX_ANCHORS for a in anchors):
+            raise UsageError(f"--anchors must be two integers in [1, {MAX_ANCHORS}], got "
+                             f"{anchors[0]} {anchors[1]}")
+    if getattr(args, "rung", None) == "field":
+        marginal = _marginal_choice(args)
+        if marginal != "gaussian" or args.nu != 0.5:
+            raise UsageError(f"--model field draws Gaussian heights with eq 18's profile: leave "
+                             f"out --marginal {marginal} / --non-gaussian and --nu "
+                             f"{args.nu:g}")
     if device is None:
         return
-    if args.rung != "eq18" or args.likelihood != "whittle":
-        raise UsageError(f"--device applies to --model eq18 with --likelihood whittle only "
-                         f"(got --model {args.rung}, --likelihood {args.likelihood}); leave "
-                         f"--device out or add --likelihood whittle")
-    check_device(device)
+    if args.rung == "field" or (args.rung == "eq18" and args.likelihood == "whittle"):
+        check_device(device)
+        return
+    raise UsageError(f"--device applies to --model eq18 with --likelihood whittle and to "
+                     f"--model field only (got --model {args.rung}, --likelihood "
+                     f"{args.likelihood}); leave --device out or add --likelihood whittle")
 
 
 def _fit_profile(args, heights, operators, data):
@@ -292,6 +318,36 @@ def _fit_rungs(args, heights, operators, data, z):
     return model
 
 
+def _fit_field(args, heights, operators, data, z):
+    """``fit ground --model field``: eq 18 per tile, pooled (roughgp.surface_models.field_model)."""
+    from roughgp.inference.tile_fit import PARAMETERS
+    from roughgp.surface_models.field_model import fit_field_model
+    tiles = tuple(args.anchors or (4, 4))
+    try:
+        fitted = fit_field_model(z, heights.spacing, **operators, tiles=tiles, seed=args.seed,
+                                 data=data, device=args.device)
+    except ValueError as exc:
+        raise UsageError(f"{args.file}: {exc}") from None
+    model = fitted.model
+    print(f"fitted to {args.file}: {model.describe()}")
+    print_wrapped(f"operators: {'; '.join(model.operators)} (the model describes the heights "
+                  f"after the F-operator; the filters are applied to its simulations)")
+    print(f"  {'parameter':<13} {'population':>11} {'spread tau':>11} {'p same':>8} "
+          f"{'p gradient':>11}  kept")
+    for name in PARAMETERS:
+        p = fitted.pooled_of(name)
+        kept = ("the tiles' median" if name == "log noise" else
+                "a gradient" if p.slope != (0.0, 0.0) else
+                "tile values" if p.tau > 0 else "one value")
+        trend = "-" if math.isnan(p.p_trend) else f"{p.p_trend:.3g}"
+        print(f"  {name:<13} {p.mean:>11.4g} {p.tau:>11.3g} {p.p_homogeneity:>8.3g} "
+              f"{trend:>11}  {kept}")
+    print_wrapped("(log scale but for the angle, in radians; p same: the test that all tiles "
+                  "share one value; p gradient: that a plane in position does better, kept "
+                  "below 0.01)")
+    return model
+
+
 def _print_mixture(model):
     """The 2-D spectral mixture's components, one line each, and the BIC of each Q tried."""
     hp = model.hyperparameters
@@ -322,6 +378,8 @@ def _fit_ground(args, heights, operators, data):
         f"{heights.spacing[0]:g} x {heights.spacing[1]:g} um ({heights.spacing_source}), "
         f"{missing.sum()} missing ({missing.mean():.1%}); fitting "
         + ("eq 18 plus noise ..." if args.rung == "eq18" else f"--model {args.rung} ..."))
+    if args.rung == "field":
+        return _fit_field(args, heights, operators, data, z)
     if args.rung != "eq18":
         return _fit_rungs(args, heights, operators, data, z)
     try:

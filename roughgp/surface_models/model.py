@@ -87,8 +87,8 @@ class FittedModel:
     model (module docstring).
 
     Attributes:
-        equation: ``"eq18"``, ``"eq18-matern"``, ``"eq21"``, ``"measured-psd"`` or
-            ``"sm2d"``.
+        equation: ``"eq18"``, ``"eq18-matern"``, ``"eq21"``, ``"measured-psd"``, ``"sm2d"``
+            or ``"eq18-field"`` (:mod:`roughgp.surface_models.field_model`).
         hyperparameters: the names of :data:`EQUATIONS` (units in the names: um, um^2, deg,
             1/um); eq 21's are lists of Q values.
         spacing: the grid spacing of the data, ``(dy, dx)`` (surface) or ``(dx,)`` (profile), um.
@@ -135,6 +135,10 @@ class FittedModel:
         by the inverse DFT of its PSD
         (:class:`~roughgp.surface_models.measured_psd.TabulatedACVF`)."""
         hp = self.hyperparameters
+        if self.equation == "eq18-field":
+            raise ValueError("the eq18-field model has no single kernel (its parameters vary "
+                             "over the map): fill, the calibrated check and the predictive "
+                             "draws need a stationary model (fit one with --model eq18)")
         if self.equation == "measured-psd":
             from roughgp.surface_models.measured_psd import TabulatedACVF
             return TabulatedACVF(self)
@@ -167,6 +171,8 @@ class FittedModel:
         if self.equation == "measured-psd":
             from roughgp.surface_models.measured_psd import band_variance
             return band_variance(self)
+        if self.equation == "eq18-field":  # the mean over the anchors
+            return float(np.mean(hp["variance_um2"]))
         if self.kind == "surface" and self.equation != "sm2d":
             return float(hp["variance_um2"])
         return float(np.sum(hp["weights_um2"]))
@@ -188,6 +194,14 @@ class FittedModel:
             text = (f"2-D spectral mixture: Q = {len(hp['weights_um2'])} components, variance "
                     f"{self.latent_variance():.4g} um^2"
                     + (f", peaks at periods {periods} um" if periods else ", no peak"))
+        elif self.equation == "eq18-field":
+            rows, cols = len(hp["anchors_y_um"]), len(hp["anchors_x_um"])
+            ranges = ", ".join(f"{label} {np.min(hp[key]):.4g} to {np.max(hp[key]):.4g}{unit}"
+                               for label, key, unit in (("variance", "variance_um2", " um^2"),
+                                                        ("lambda_a", "lambda_a_um", " um"),
+                                                        ("lambda_b", "lambda_b_um", " um"),
+                                                        ("angle", "angle_deg", " deg")))
+            text = f"eq 18 with parameter fields on {rows} x {cols} anchors: {ranges}"
         elif self.kind == "surface":
             name = "eq 18" if self.equation == "eq18" else f"eq 18 with Matern nu = {hp['nu']:g}"
             text = (f"{name}: variance {hp['variance_um2']:.4g} um^2, lambda_a "
@@ -230,6 +244,9 @@ class FittedModel:
                              f"{_MAX_SIMULATE_POINTS} (2**24): draw fewer or smaller surfaces")
         shape, spacing = normalize(shape, self.spacing if spacing is None else spacing)
         rng = as_generator(seed)
+        if self.equation == "eq18-field":
+            from roughgp.surface_models.field_draw import draw_field_model
+            return self._returned(draw_field_model(self, shape, spacing, rng, count), n_samples)
         if self.equation == "sm2d":
             from roughgp.surface_models.spectral_mixture import Mixture2D, check_embeddable
             check_embeddable(Mixture2D.from_hyperparameters(self.hyperparameters), shape,

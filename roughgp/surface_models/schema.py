@@ -17,7 +17,7 @@ import math
 
 __all__ = ["ModelFileError", "MODEL_FORMAT", "MODEL_VERSIONS", "STAGES", "EQUATIONS", "RANGES",
            "MAX_DEPTH", "MAX_FILE_BYTES", "MAX_MIXTURES", "MAX_SM2D_COMPONENTS",
-           "SM2D_BANDWIDTHS", "FORMS", "AXES", "validate_record",
+           "SM2D_BANDWIDTHS", "FORMS", "AXES", "MAX_ANCHORS", "FIELD_NAMES", "validate_record",
            "check_fields"]
 
 MODEL_FORMAT = "roughgp-model"
@@ -38,7 +38,15 @@ EQUATIONS = {
     "sm2d": ("surface", ("weights_um2", "frequencies_x_per_um", "frequencies_y_per_um",
                          "bandwidths_a_per_um", "bandwidths_b_per_um", "axes_deg",
                          "noise_variance_um2")),
+    # eq 18 with parameter fields: their values at anchors (rows y, columns x), interpolated
+    # between them (roughgp.surface_models.field_model)
+    "eq18-field": ("surface", ("anchors_x_um", "anchors_y_um", "variance_um2", "lambda_a_um",
+                               "lambda_b_um", "angle_deg", "noise_variance_um2")),
 }
+#: the parameter fields' most anchors per axis
+MAX_ANCHORS = 32
+#: the fields of the eq18-field model, each a list of rows (anchors_y) of anchors_x values
+FIELD_NAMES = ("variance_um2", "lambda_a_um", "lambda_b_um", "angle_deg")
 #: the 2-D spectral mixture's most components (its fit tries 4 by default)
 MAX_SM2D_COMPONENTS = 8
 #: its bandwidths' allowed range, in units of the Nyquist frequency 1 / (2 spacing): at least
@@ -84,6 +92,8 @@ RANGES = {
     "bandwidths_a_per_um": (0.0, 1e9, False),
     "bandwidths_b_per_um": (0.0, 1e9, False),
     "axes_deg": (-360.0, 360.0, True),
+    "anchors_x_um": (-1e9, 1e9, True),
+    "anchors_y_um": (-1e9, 1e9, True),
 }
 _TOP = {"format", "version", "equation", "kind", "stage", "description", "hyperparameters",
         "spacing_um", "marginal", "operators", "cutoffs", "data", "fit", "roughgp_version"}
@@ -165,6 +175,11 @@ def check_fields(equation, hyperparameters, spacing, marginal, cutoffs, stage, o
         _check_psd(hp)
     elif equation == "sm2d":
         _check_sm2d(hp, spacing)
+    elif equation == "eq18-field":
+        _check_field(hp, spacing)
+        if marginal is not None:
+            raise ModelFileError("the eq18-field model draws Gaussian heights: its marginal "
+                                 "must be null")
     elif kind == "surface":
         for name in ("variance_um2", "lambda_a_um", "lambda_b_um", "angle_deg"):
             number(name, hp[name])
@@ -251,6 +266,33 @@ def _check_psd(hp):
     if not low < high:
         raise ModelFileError(f"frequency_min_per_um must be smaller than frequency_max_per_um, "
                              f"got {low:g} and {high:g}")
+
+
+def _check_field(hp, spacing):
+    """The eq18-field model: 1 to :data:`MAX_ANCHORS` strictly increasing anchors per axis,
+    and each field of :data:`FIELD_NAMES` a list of ``len(anchors_y_um)`` rows of
+    ``len(anchors_x_um)`` numbers in the range of the stationary eq 18's."""
+    axes = {}
+    for name in ("anchors_x_um", "anchors_y_um"):
+        values = _numbers(name, hp[name], count=range(1, MAX_ANCHORS + 1))
+        if any(b <= a for a, b in zip(values, values[1:])):
+            raise ModelFileError(f"{name} must be strictly increasing, got {values!r:.200}")
+        axes[name] = values
+    rows, cols = len(axes["anchors_y_um"]), len(axes["anchors_x_um"])
+    for name in FIELD_NAMES:
+        grid = hp[name]
+        if not isinstance(grid, list) or len(grid) != rows or not all(
+                isinstance(row, list) and len(row) == cols for row in grid):
+            raise ModelFileError(f"{name} must be a list of {rows} rows (anchors_y_um) of {cols} "
+                                 f"numbers (anchors_x_um), got {grid!r:.120}")
+        for i, row in enumerate(grid):
+            for j, value in enumerate(row):
+                value = number(name, value, where=f"{name}[{i}][{j}]")
+                if name.startswith("lambda") and not \
+                        1e-3 * min(spacing) <= value <= 1e7 * max(spacing):
+                    raise ModelFileError(f"{name}[{i}][{j}] must be within [1e-3, 1e7] spacings "
+                                         f"([{1e-3 * min(spacing):g}, {1e7 * max(spacing):g}] "
+                                         f"um), got {value!r}")
 
 
 def _check_sm2d(hp, spacing):
