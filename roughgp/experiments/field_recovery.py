@@ -34,7 +34,7 @@ from roughgp.models.nonstationary import ParameterField, sample_nonstationary
 from roughgp.surface_models.field_model import fit_field_model
 from roughgp.surface_models.fit import fit_surface_model
 
-__all__ = ["KINDS", "SHAPE", "TILES", "CHECK_TILES", "true_field", "field_case",
+__all__ = ["KINDS", "SHAPE", "TILES", "CHECK_TILES", "true_field", "field_case", "summary",
            "recovery_table", "load_records", "RECORDED"]
 
 KINDS = ("stationary", "gradient", "turning", "zones")
@@ -113,6 +113,30 @@ def field_case(kind, index, *, shape=SHAPE, tiles=TILES, n_simulations=19, seed=
 def load_records(path=RECORDED) -> list:
     """The recorded cases (empty when none are)."""
     return read_records(path)
+
+
+def summary(records) -> dict:
+    """Per kind recorded: ``cases``; ``covered`` (the share of anchors covered, per field) and
+    ``covered_min`` (the least of them); ``constant``, the share of cases whose four fields
+    came back constant (no spread, no trend); the tile check's mean outside share per
+    parameter, ``eq18`` and ``field``, and over the four, ``eq18_mean`` and ``field_mean``."""
+    out = {}
+    for kind in KINDS:
+        rows = [r for r in records if r["kind"] == kind]
+        if not rows:
+            continue
+        covered = {n: float(np.mean([r["covered"][n] for r in rows])) for n in _COMPARED}
+        shares = {label: {n: float(np.mean([r["tile_outside"][label][n] for r in rows]))
+                          for n in TILE_PARAMETERS} for label in ("eq18", "field")}
+        fields = [name for name in PARAMETERS if name != "log noise"]
+        out[kind] = {"cases": len(rows), "covered": covered,
+                     "covered_min": min(covered.values()),
+                     "constant": float(np.mean([all(r["tau"][n] == 0 and not r["trend_kept"][n]
+                                                    for n in fields) for r in rows])),
+                     **shares,
+                     "eq18_mean": float(np.mean(list(shares["eq18"].values()))),
+                     "field_mean": float(np.mean(list(shares["field"].values())))}
+    return out
 
 
 def recovery_table(records) -> str:
