@@ -13,9 +13,11 @@ from roughgp.cli.options import (
     add_part_option,
     add_spurious_options,
     crop_to_part,
+    flagged_output,
     load_model,
     read_input,
     remove_spurious,
+    write_flagged,
 )
 from roughgp.cli.output import (
     UsageError,
@@ -173,8 +175,9 @@ def _predictive_models(model, args, start):
 def run(args) -> int:
     """``roughgp check MODEL FILE``."""
     from roughgp.api import check
-    json_out, plot = check_outputs(("--json", args.json, "json"), ("--plot", args.plot, "plot"),
-                                   inputs=(args.file, args.model), force=args.force)
+    json_out, plot, flagged_out = check_outputs(
+        ("--json", args.json, "json"), ("--plot", args.plot, "plot"), flagged_output(args),
+        inputs=(("FILE", args.file), ("MODEL", args.model)), force=args.force)
     _refuse_combinations(args)
     model = load_model(args.model)
     heights = read_input(args)  # what the file holds: a 2-column profile is no 512 x 2 surface
@@ -199,7 +202,7 @@ def run(args) -> int:
         except ValueError as error:
             raise UsageError(f"--{error}") from None
     spacing_note = _spacing_note(heights, model)
-    z = remove_spurious(args, heights, model.cutoffs.get("form", "plane"))  # the model's F
+    z, found = remove_spurious(args, heights, model.cutoffs.get("form", "plane"))  # model's F
     start = time.perf_counter()
     models = None if args.predictive is None else _predictive_models(model, args, start)
     err(f"simulating {args.simulations} {model.kind}s of {' x '.join(map(str, z.shape))}"
@@ -207,10 +210,21 @@ def run(args) -> int:
     spacing = heights.spacing if model.kind == "surface" else (heights.spacing[-1],)
     draws = "predictive" if models is not None else "plug-in"
     if args.tiles:
-        return _tiles(args, model, z, spacing, models, start, json_out, plot, spacing_note)
-    if fitted_part is not None:
-        return _held_out(args, model, z, spacing, models, fitted_part, start, json_out, plot,
+        code = _tiles(args, model, z, spacing, models, start, json_out, plot, spacing_note)
+    elif fitted_part is not None:
+        code = _held_out(args, model, z, spacing, models, fitted_part, start, json_out, plot,
                          spacing_note)
+    else:
+        code = _whole(args, model, z, spacing, models, start, json_out, plot, spacing_note,
+                      part, draws)
+    write_flagged(flagged_out, found, args, heights)
+    return code
+
+
+def _whole(args, model, z, spacing, models, start, json_out, plot, spacing_note, part,
+           draws) -> int:
+    """``check MODEL FILE`` (plain or ``--calibrate``): one table of the whole map."""
+    from roughgp.api import check
     calibrated = None
     if args.calibrate is None:
         result = check(model, z, spacing, n_simulations=args.simulations, seed=args.seed,

@@ -17,9 +17,11 @@ from roughgp.cli.options import (
     add_spurious_options,
     check_cutoffs,
     crop_to_part,
+    flagged_output,
     operator_settings,
     read_input,
     remove_spurious,
+    write_flagged,
 )
 from roughgp.cli.output import UsageError, add_force_option, check_outputs, err, print_wrapped
 from roughgp.io.measurement import mean_profile
@@ -161,7 +163,8 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
 def run(args) -> int:
     """``roughgp fit MODEL FILE``."""
     operators = operator_settings(args)
-    (out,) = check_outputs(("--out", args.out, "json"), inputs=(args.file,), force=args.force)
+    out, flagged_out = check_outputs(("--out", args.out, "json"), flagged_output(args),
+                                     inputs=(("FILE", args.file),), force=args.force)
     heights = read_input(args, getattr(args, "kind", "surface"))
     full_shape = heights.z.shape
     heights, part = crop_to_part(args, heights)
@@ -176,14 +179,15 @@ def run(args) -> int:
             f"columns {part.cols[0]}:{part.cols[1]} of {full_shape[0]} x {full_shape[1]}")
     start = time.perf_counter()
     if args.model == "profile":
-        model = _fit_profile(args, heights, operators, data)
+        model, found = _fit_profile(args, heights, operators, data), None
     else:
-        model = _fit_ground(args, heights, operators, data)
+        model, found = _fit_ground(args, heights, operators, data)
     err(f"({time.perf_counter() - start:.1f} s)")
     if out is not None:
         with atomic_output(out) as partial:  # whole or not at all; missing folders made
             model.save(partial)
         err(f"wrote {out} (roughgp model file; roughgp simulate --from {out.name} ...)")
+    write_flagged(flagged_out, found, args, heights)
     return 0
 
 
@@ -295,7 +299,7 @@ def _fit_ground(args, heights, operators, data):
     if heights.kind != "surface":
         raise UsageError(f"{args.file} holds a profile; fit ground needs a surface z[iy, ix] "
                          f"(fit a profile with: roughgp fit profile)")
-    z = remove_spurious(args, heights, operators["form"])
+    z, found = remove_spurious(args, heights, operators["form"])
     check_block(args.file, args.block, z.shape)
     missing = np.isnan(z)
     err(f"{args.file}: {z.shape[0]} x {z.shape[1]} points, spacing "
@@ -303,7 +307,7 @@ def _fit_ground(args, heights, operators, data):
         f"{missing.sum()} missing ({missing.mean():.1%}); fitting "
         + ("eq 18 plus noise ..." if args.rung == "eq18" else f"--model {args.rung} ..."))
     if args.rung != "eq18":
-        return _fit_rungs(args, heights, operators, data, z)
+        return _fit_rungs(args, heights, operators, data, z), found
     try:
         result = fit_surface_model(z, heights.spacing, **operators, block=args.block,
                                    n_blocks=args.blocks, seed=args.seed, nu=args.nu,
@@ -334,7 +338,7 @@ def _fit_ground(args, heights, operators, data):
     for note in result.range_notes:
         print_wrapped(f"note: {note}")
     _print_marginal(model)
-    return model
+    return model, found
 
 
 def _print_marginal(model):

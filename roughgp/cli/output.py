@@ -159,14 +159,17 @@ PLOT_FORMATS = (".png", ".pdf", ".svg")
 def check_outputs(*outputs, inputs=(), force=False) -> list:
     """The output-path rule of every command, applied before it computes anything.
 
-    ``outputs``: ``(option, path text or None, kind)``, where ``kind`` is ``"heights"`` (a
+    ``outputs``: ``(option, path text or None, kind)`` (every file the command writes, in
+    one call, so that each is checked against every other), where ``kind`` is ``"heights"`` (a
     format of :data:`roughgp.io.writers.WRITE_FORMATS`, by the extension) or
     ``"json"`` (the extension must be ``.json``) or ``"plot"`` (:data:`PLOT_FORMATS`).
 
     The rule: the file written is the file named, letter for letter (the writers add no
     extension: ``--out H.NPY`` writes ``H.NPY``), so the checks below look at the file that
     will be written. A usage error naming the option refuses an output that is one of
-    ``inputs`` (never written over, even with ``--force``), two options naming one file, an
+    ``inputs`` (``(option, path text or None)`` pairs, e.g. ``("FILE", args.file)``, or bare
+    path texts; never written over, even with ``--force``; the message names both), two
+    options naming one file, an
     existing file without ``force`` (``--force``), and a place that cannot be written: the
     nearest existing folder above the file must be a writable directory. Missing folders
     are made when the file is written, by every command alike. Each file is then written
@@ -191,10 +194,11 @@ def check_outputs(*outputs, inputs=(), force=False) -> list:
                                  f"{', '.join(PLOT_FORMATS)}: got {text!r}")
         else:
             path = check_output(text, option)
-        for source in (s for s in inputs if s is not None):
+        for name, source in _named(inputs):
             if _same_file(path, Path(source)):
-                raise UsageError(f"{option}: {path} is the input file; roughgp never writes "
-                                 "over its input: give another file name")
+                raise UsageError(f"{option}: {path} is the input file ({name}); roughgp never "
+                                 f"writes over its input, even with --force: give {option} "
+                                 "another file name")
         for other, earlier in given:
             if _same_file(path, earlier):
                 raise UsageError(f"{option} and {other} name the same file {path}: give two "
@@ -206,6 +210,15 @@ def check_outputs(*outputs, inputs=(), force=False) -> list:
         given.append((option, path))
         paths.append(path)
     return paths
+
+
+def _named(inputs):
+    """``(option, path text)`` of each input given: ``inputs`` holds pairs or bare texts (named
+    ``the input``)."""
+    for item in inputs:
+        name, source = item if isinstance(item, tuple) else ("the input", item)
+        if source is not None:
+            yield name, source
 
 
 def add_force_option(parser) -> None:

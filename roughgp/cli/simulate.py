@@ -315,7 +315,8 @@ def _run_model(args) -> int:
     if args.out is None:
         raise UsageError("--out FILE is required (the simulated surface: "
                          + ", ".join(WRITE_FORMATS) + ")")
-    out, = check_outputs(("--out", args.out, "heights"), inputs=(args.model,), force=args.force)
+    out, = check_outputs(("--out", args.out, "heights"), inputs=(("--from", args.model),),
+                         force=args.force)
     model = load_model(args.model, "--from")
     shape = _check_shape(args)
     if model.kind == "profile":
