@@ -76,8 +76,11 @@ def run(args) -> int:
     if not args.unfiltered:
         check_cutoffs(operators, heights.z.shape, heights.spacing)
     z, found = remove_spurious(args, heights, operators["form"])
-    report = texture(z, heights.spacing, **operators, filtered=not args.unfiltered,
-                     l_kind=args.l_kind)
+    try:
+        report = texture(z, heights.spacing, **operators, filtered=not args.unfiltered,
+                         l_kind=args.l_kind)
+    except ValueError as exc:
+        raise UsageError(f"{args.file}: {exc}") from None
     shape = " x ".join(map(str, heights.z.shape))
     spacing = ", ".join(f"{d:g}" for d in heights.spacing)
     print(f"{report.standard} of {args.file}")

@@ -21,6 +21,7 @@ import math
 
 import numpy as np
 
+from roughgp.common.checks import check_varies
 from roughgp.common.memory import host_free_bytes
 from roughgp.metrology import texture, texture_heights
 from roughgp.metrology.filters import Texture, surface_texture
@@ -146,6 +147,7 @@ def filtered_parameters(z, spacing=1.0, *, form="plane", s="auto", l="auto", deg
         what = "unfiltered heights, referred to their mean"
     standard = (f"ISO 25178-2 areal parameters of the {what}" if areal else
                 f"ISO 4287 / ISO 13565-2 profile parameters of the {what}")
+    check_varies("the heights" + (" after the operators" if filtered else ""), heights, z)
     missing = int(np.count_nonzero(~np.isfinite(heights)))
     if missing == 0:
         params = (texture.areal_parameters(heights, spacing=spacing, undefined="nan") if areal
