@@ -229,6 +229,7 @@ class FittedModel:
             raise ValueError(f"n_samples x shape = {count * math.prod(shape)} points exceeds "
                              f"{_MAX_SIMULATE_POINTS} (2**24): draw fewer or smaller surfaces")
         shape, spacing = normalize(shape, self.spacing if spacing is None else spacing)
+        self._bound_heights()  # before drawing: no height beyond the readers' 1 m
         rng = as_generator(seed)
         if self.equation == "sm2d":
             from roughgp.surface_models.spectral_mixture import Mixture2D, check_embeddable
@@ -263,6 +264,14 @@ class FittedModel:
                                              method="circulant" if method == "auto" else method)
         z = GaussianNoise(self.noise_variance).sample(latent, seed=rng)
         return self._returned(z, n_samples)
+
+    def _bound_heights(self, source="the model") -> None:
+        """:func:`~roughgp.surface_models.height_bound.check_height_bound`, once per model (a
+        check draws 99 times from one; the measured PSD's variance costs an FFT)."""
+        if not getattr(self, "_heights_bounded", False):
+            from roughgp.surface_models.height_bound import check_height_bound
+            check_height_bound(self, source)
+            object.__setattr__(self, "_heights_bounded", True)  # not a field: not compared
 
     @staticmethod
     def _returned(z, n_samples):
@@ -320,8 +329,11 @@ class FittedModel:
     @classmethod
     def from_dict(cls, values, source="the model") -> "FittedModel":
         """A model from the parsed JSON of a model file, validated
-        (:func:`~roughgp.surface_models.schema.validate_record`)."""
-        return cls(**validate_record(values, source))
+        (:func:`~roughgp.surface_models.schema.validate_record`) and its heights bounded
+        (:func:`~roughgp.surface_models.height_bound.check_height_bound`)."""
+        model = cls(**validate_record(values, source))
+        model._bound_heights(source)
+        return model
 
     def save(self, path) -> Path:
         """Write the model file whole or not at all (:func:`roughgp.common.atomic.atomic_output`:

@@ -252,6 +252,11 @@ def _check_psd(hp):
         total += sum(number("psd_um4", v, where=f"psd_um4[{i}][{j}]") for j, v in enumerate(row))
     if not total > 0:
         raise ModelFileError("psd_um4 must hold at least one value > 0")
+    if hp["noise_variance_um2"] != 0:
+        raise ModelFileError(f"noise_variance_um2 of a measured-psd model must be 0 (its white "
+                             f"noise is part of psd_um4, the table's flat high-frequency "
+                             f"floor, and no command adds another), got "
+                             f"{hp['noise_variance_um2']!r}")
     low = number("frequency_min_per_um", hp["frequency_min_per_um"])
     high = number("frequency_max_per_um", hp["frequency_max_per_um"])
     if not low < high:
