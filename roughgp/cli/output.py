@@ -41,8 +41,9 @@ def shell_message(message: str, args=None) -> str:
     if _LIBRARY_ADVICE.search(message):
         if getattr(args, "method", None) is not None and getattr(args, "kind", None) in (
                 "ground", "honed"):
-            advice = (" Give a smaller --shape, shorter correlation lengths, or --method "
-                      "cholesky on a grid of a few thousand points.")
+            lengths = " (--lambda-a, --lambda-b)" if args.kind == "ground" else ""
+            advice = (f" Give a smaller --shape, shorter correlation lengths{lengths}, or "
+                      "--method cholesky on a grid of a few thousand points.")
         else:
             advice = " Give a smaller --shape (or a model with shorter correlation lengths)."
         message = _LIBRARY_ADVICE.sub(advice, message)
