@@ -28,25 +28,51 @@ class UsageError(Exception):
 
 
 _NUMPY_REPR = re.compile(r"\bnp\.(?:float|int|uint|complex)\d*\(([^()]*)\)|\bnp\.(True|False)_")
-#: The library's advice of its own keyword arguments, and what a shell user can do instead.
-_LIBRARY_ADVICE = re.compile(r"\s*Use approximate=True to clip .*?method='cholesky'\.")
+
+
+def _sampler_advice(args, message) -> str:
+    if getattr(args, "method", None) is not None and getattr(args, "kind", None) in (
+            "ground", "honed"):
+        lengths = " (--lambda-a, --lambda-b)" if args.kind == "ground" else ""
+        return (f" Give a smaller --shape, shorter correlation lengths{lengths}, or --method "
+                "cholesky on a grid of a few thousand points.")
+    return " Give a smaller --shape (or a model with shorter correlation lengths)."
+
+
+def _plane_advice(args, message) -> str:
+    ways = (["--form none (no F-operator)"] if hasattr(args, "form") else []) + (
+        ["--kind profile (a one-row map read as a profile)"]
+        if getattr(args, "kind", None) in ("auto", "surface", "profile") else [])
+    return ("; give " + " or ".join(ways)) if ways else \
+        ": give a map with at least 2 measured rows and columns"
+
+
+def _block_advice(args, message) -> str:
+    if message.startswith("--spurious") or not hasattr(args, "block"):
+        return ("; --spurious fits the GP on such blocks: crop the map to a part with fewer "
+                "holes, or leave out --spurious")
+    return "; give a smaller --block (at least 4)"
+
+
+#: The library's advice of its own keyword arguments, and what a shell user can do instead:
+#: (pattern, advice of the command ``args`` ran and the message).
+_LIBRARY_ADVICE = (
+    (re.compile(r"\s*Use approximate=True to clip .*?method='cholesky'\."), _sampler_advice),
+    (re.compile(r"; use order=0 or level rows / columns as profiles"), _plane_advice),
+    (re.compile(r"; use a smaller block or a lower min_valid"), _block_advice),
+)
 
 
 def shell_message(message: str, args=None) -> str:
     """A library error's message for a shell user: numpy scalar reprs (``np.float64(1.0)``)
     as plain numbers, and advice of keyword arguments (``approximate=True``,
-    ``method='cholesky'``) replaced by the options of the command ``args`` ran."""
+    ``method='cholesky'``, ``order=0``, ``min_valid``) replaced by the options of the command
+    ``args`` ran (never one it does not have)."""
     message = _NUMPY_REPR.sub(lambda m: m.group(1) if m.group(1) is not None else m.group(2),
                               message)
-    if _LIBRARY_ADVICE.search(message):
-        if getattr(args, "method", None) is not None and getattr(args, "kind", None) in (
-                "ground", "honed"):
-            lengths = " (--lambda-a, --lambda-b)" if args.kind == "ground" else ""
-            advice = (f" Give a smaller --shape, shorter correlation lengths{lengths}, or "
-                      "--method cholesky on a grid of a few thousand points.")
-        else:
-            advice = " Give a smaller --shape (or a model with shorter correlation lengths)."
-        message = _LIBRARY_ADVICE.sub(advice, message)
+    for pattern, advice in _LIBRARY_ADVICE:
+        if pattern.search(message):
+            message = pattern.sub(lambda m: advice(args, message), message)
     return message
 
 

@@ -23,3 +23,33 @@ def test_a_correlation_too_long_for_any_torus_names_the_options():
     assert "nan" not in message and "tried []" not in message
     assert "no torus could be tried" in message and "(18816, 177408)" in message
     assert "--lambda-a" in message and "--shape" in message and "approximate=" not in message
+
+
+def test_a_one_row_map_read_as_a_surface_is_told_the_options_of_texture(capsys, tmp_path):
+    """It suggested ``order=0``, a library argument the command does not have."""
+    path = tmp_path / "row.npy"
+    np.save(path, np.random.default_rng(0).normal(size=(1, 64)))
+    code, _, err = _run(capsys, "texture", path, "--kind", "surface")
+    assert code == 2 and "order=0" not in err, err
+    assert "--form none" in err and "--kind profile" in err
+
+
+def _mostly_holes(tmp_path):
+    z = np.random.default_rng(0).normal(size=(48, 48))
+    z[:, 1::3] = z[:, 2::3] = np.nan
+    path = tmp_path / "holes.npy"
+    np.save(path, z)
+    return path
+
+
+def test_spurious_on_a_map_of_many_holes_names_no_block_option(capsys, tmp_path):
+    """texture --spurious said "use a smaller block or a lower min_valid": texture takes
+    neither."""
+    code, _, err = _run(capsys, "texture", _mostly_holes(tmp_path), "--spurious")
+    assert code == 2 and "min_valid" not in err and "--block" not in err, err
+    assert "--spurious" in err and "crop the map" in err
+
+
+def test_fill_on_a_map_of_many_holes_names_its_block_option(capsys, tmp_path):
+    code, _, err = _run(capsys, "fill", _mostly_holes(tmp_path), "--out", tmp_path / "o.npy")
+    assert code == 2 and "min_valid" not in err and "give a smaller --block" in err, err
