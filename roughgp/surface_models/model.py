@@ -259,9 +259,15 @@ class FittedModel:
             w = self.latent_variance() / (self.latent_variance() + self.noise_variance)
             skew = float(self.marginal["skewness"]) / w ** 1.5
             kurt = 3.0 + (float(self.marginal["kurtosis"]) - 3.0) / w ** 2
-            latent, _ = non_gaussian_surface(self.kernel(), shape, skewness=skew, kurtosis=kurt,
-                                             spacing=spacing, seed=rng, n_samples=count,
-                                             method="circulant" if method == "auto" else method)
+            try:
+                latent, _ = non_gaussian_surface(
+                    self.kernel(), shape, skewness=skew, kurtosis=kurt, spacing=spacing,
+                    seed=rng, n_samples=count,
+                    method="circulant" if method == "auto" else method)
+            except ValueError as exc:
+                if "kurtosis" not in str(exc):
+                    raise
+                raise ValueError(self._latent_marginal_refusal(w, skew, kurt, exc)) from None
         z = GaussianNoise(self.noise_variance).sample(latent, seed=rng)
         return self._returned(z, n_samples)
 
@@ -272,6 +278,19 @@ class FittedModel:
             from roughgp.surface_models.height_bound import check_height_bound
             check_height_bound(self, source)
             object.__setattr__(self, "_heights_bounded", True)  # not a field: not compared
+
+    def _latent_marginal_refusal(self, w, skew, kurt, exc) -> str:
+        """Why the Johnson marginal cannot be drawn, in the file's fields: the latent surface
+        carries a share ``w`` of the variance, so the heights' skewness and kurtosis ask it
+        for ``skew`` and ``kurt`` (``exc``: the Johnson fit's refusal of those)."""
+        s, k = float(self.marginal["skewness"]), float(self.marginal["kurtosis"])
+        least = 3.0 + s * s / w - 2.0 * w * w  # kurt > skew**2 + 1, in the file's terms
+        return (f"the marginal's skewness {s:.4g} and kurtosis {k:.4g} cannot be drawn with "
+                f"this noise: the latent surface carries {w:.3g} of the variance "
+                f"(variance against noise_variance_um2 {self.noise_variance:.4g} um^2), so it "
+                f"would need skewness {skew:.4g} and kurtosis {kurt:.4g} ({exc}); give a "
+                f"marginal kurtosis above {least:.4g}, a smaller skewness or a smaller "
+                f"noise_variance_um2")
 
     @staticmethod
     def _returned(z, n_samples):

@@ -53,3 +53,18 @@ def test_spurious_on_a_map_of_many_holes_names_no_block_option(capsys, tmp_path)
 def test_fill_on_a_map_of_many_holes_names_its_block_option(capsys, tmp_path):
     code, _, err = _run(capsys, "fill", _mostly_holes(tmp_path), "--out", tmp_path / "o.npy")
     assert code == 2 and "min_valid" not in err and "give a smaller --block" in err, err
+
+
+def test_a_johnson_marginal_refused_is_quoted_as_the_file_states_it(capsys, tmp_path):
+    """It quoted the latent skewness 4.24 and kurtosis 7, which the file does not hold."""
+    from roughgp.surface_models.model import FittedModel
+    model = FittedModel("eq18", {"variance_um2": 1.0, "lambda_a_um": 4.0, "lambda_b_um": 2.0,
+                                 "angle_deg": 0.0, "noise_variance_um2": 1.0}, (1.0, 1.0),
+                        marginal={"skewness": 1.5, "kurtosis": 4.0})
+    path = model.save(tmp_path / "m.json")
+    code, _, err = _run(capsys, "simulate", "--from", path, "--shape", 16, 16, "--seed", 0,
+                        "--out", tmp_path / "o.npy")
+    assert code == 2, err
+    assert "skewness 1.5 and kurtosis 4 cannot be drawn" in err
+    assert "give a marginal kurtosis above 7" in err and "noise_variance_um2" in err
+    assert not (tmp_path / "o.npy").exists()
