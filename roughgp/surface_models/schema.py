@@ -65,7 +65,7 @@ FORMS = ("plane", "polynomial", "cylinder", None)
 AXES = ("auto", "x", "y")
 #: name -> (low, high, low included): the allowed range of each number (um, um^2, deg, 1/um)
 RANGES = {
-    "spacing_um": (0.0, 1e6, False),
+    "spacing_um": (1e-6, 1e6, True),  # the readers' step (roughgp.io.plausibility): 1 pm to 1 m
     "variance_um2": (0.0, 1e12, False),
     "weights_um2": (0.0, 1e12, False),
     "noise_variance_um2": (0.0, 1e12, True),

@@ -76,7 +76,9 @@ HOSTILE = [
     (("hyperparameters", "mean_um"), "0", "mean_um must be a number"),
     (("hyperparameters", "nu"), 1.5, "unknown hyperparameters nu"),
     (("spacing_um",), [1.0], "spacing_um must hold 2 values"),
-    (("spacing_um",), [1.0, 0.0], "spacing_um[1] must be a finite number in (0"),
+    (("spacing_um",), [1.0, 0.0], "spacing_um[1] must be a finite number in [1e-06, 1e+06]"),
+    # issue 44 part 2: 1e-300 was blamed on lambda_a_um
+    (("spacing_um",), [1e-300, 1.0], "spacing_um[0] must be a finite number in [1e-06, 1e+06]"),
     (("spacing_um",), [1.0, True], "spacing_um[1] must be a number"),
     (("spacing_um",), 1.0, "spacing_um must be a non-empty list"),
     (("spacing_um",), _DELETE, "lacks the field(s) spacing_um"),
