@@ -8,7 +8,7 @@ from __future__ import annotations
 import math
 import time
 
-from roughgp.cli.bounds import bounds_text
+from roughgp.cli.bounds import bounds_text, integer
 from roughgp.cli.options import (
     add_part_option,
     add_spurious_options,
@@ -79,12 +79,12 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                        help="texture parameters of a measurement against a model's simulations")
     c.add_argument("model", metavar="MODEL.json", help="a model file of 'roughgp fit'")
     add_input_options(c, kind=False, what="the measurement the model was fitted to (or another)")
-    c.add_argument("--simulations", type=int, default=19, metavar="N",
+    c.add_argument("--simulations", type=integer("--simulations"), default=19, metavar="N",
                    help=f"simulations of the model, {bounds_text('--simulations')} (default "
                         f"19)")
-    c.add_argument("--seed", type=int, default=0, metavar="S",
+    c.add_argument("--seed", type=integer("--seed"), default=0, metavar="S",
                    help=f"seed of the simulations, {bounds_text('--seed')} (default 0)")
-    c.add_argument("--calibrate", type=int, metavar="B",
+    c.add_argument("--calibrate", type=integer("--calibrate"), metavar="B",
                    help=f"calibrate the check by B refitted bootstrap copies, "
                         f"{bounds_text('--calibrate')} (19 makes the level a whole count; "
                         f"default: the plain check)")
@@ -92,10 +92,10 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                    help="check the model on the part of FILE it was fitted on (fit --part, "
                         "a half) and on the other half, side by side")
     add_part_option(c)
-    c.add_argument("--predictive", type=int, metavar="B",
+    c.add_argument("--predictive", type=integer("--predictive"), metavar="B",
                    help=f"draw the simulations from B refits of bootstrap measurements of the "
                         f"model, {bounds_text('--predictive')} (default: the plug-in model)")
-    c.add_argument("--tiles", type=int, nargs=2, metavar=("M", "N"),
+    c.add_argument("--tiles", type=integer("--tiles"), nargs=2, metavar=("M", "N"),
                    help="rank each of M x N tiles' Sq, Sal, Str, Std among the same tile of "
                         "the simulations (tiles of at least 16 x 16 points)")
     c.add_argument("--plot", metavar="FIGURE", help="write the figure (.png, .pdf or .svg)")

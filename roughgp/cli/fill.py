@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from roughgp.cli.bounds import bounds_text, check_block
+from roughgp.cli.bounds import bounds_text, check_block, integer
 from roughgp.cli.options import (
     add_form_options,
     add_spurious_options,
@@ -80,17 +80,17 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                    help="skip the self-check on held-out measured points")
     f.add_argument("--method", choices=("local", "global"), default="local",
                    help="local (default): moving-window kriging; global: all points by CG")
-    f.add_argument("--samples", type=int, default=16, metavar="N",
+    f.add_argument("--samples", type=integer("--samples"), default=16, metavar="N",
                    help=f"--method global: pathwise draws for --sd, "
                         f"{bounds_text('--samples')} (default 16)")
-    f.add_argument("--seed", type=int, default=0, metavar="S",
+    f.add_argument("--seed", type=integer("--seed"), default=0, metavar="S",
                    help=f"seed of the blocks chosen for the fit and of the draws, "
                         f"{bounds_text('--seed')} (default 0)")
     add_force_option(f)
-    f.add_argument("--block", type=int, default=24, metavar="B",
+    f.add_argument("--block", type=integer("--block"), default=24, metavar="B",
                    help=f"side of the fit's blocks in points, {bounds_text('--block')} "
                         f"(default 24)")
-    f.add_argument("--blocks", type=int, default=12, metavar="K",
+    f.add_argument("--blocks", type=integer("--blocks"), default=12, metavar="K",
                    help=f"blocks used by the fit, {bounds_text('--blocks')} (default 12)")
     f.add_argument("--device", metavar="DEV",
                    help="--method global: run the FFTs and CG through torch on DEV (cpu, "

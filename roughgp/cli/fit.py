@@ -10,7 +10,7 @@ import time
 
 import numpy as np
 
-from roughgp.cli.bounds import bounds_text, check_block
+from roughgp.cli.bounds import bounds_text, check_block, integer
 from roughgp.cli.options import (
     add_operator_options,
     add_part_option,
@@ -105,7 +105,7 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     models = f.add_subparsers(dest="model", metavar="MODEL", required=True,
                               title="models (roughgp fit MODEL --help for each)")
     shared = argparse.ArgumentParser(add_help=False)
-    shared.add_argument("--seed", type=int, default=0, metavar="S",
+    shared.add_argument("--seed", type=integer("--seed"), default=0, metavar="S",
                         help=f"seed of the fit's initialisations or blocks, "
                              f"{bounds_text('--seed')} (default 0)")
     shared.add_argument("--non-gaussian", action="store_true",
@@ -117,10 +117,10 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                           help="eq 21 spectral mixture of a profile (section 3.3)")
     add_input_options(p)
     add_operator_options(p, s_default="none", l_default="none")
-    p.add_argument("--mixtures", type=int, default=5, metavar="Q",
+    p.add_argument("--mixtures", type=integer("--mixtures"), default=5, metavar="Q",
                    help=f"spectral-mixture components, {bounds_text('--mixtures')} (default "
                         f"5, the paper's)")
-    p.add_argument("--candidates", type=int, default=10, metavar="N",
+    p.add_argument("--candidates", type=integer("--candidates"), default=10, metavar="N",
                    help=f"initialisations scored, {bounds_text('--candidates')} (default 10)")
     p.add_argument("--profile-axis", choices=("x", "y"), default="x",
                    help="for a surface: the direction of the mean profile (default x)")
@@ -149,10 +149,10 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                         "random blocks of --block x --block points) or whittle (the debiased "
                         "spatial Whittle likelihood of every measured point: its precision "
                         "grows with the map)")
-    g.add_argument("--block", type=int, default=24, metavar="B",
+    g.add_argument("--block", type=integer("--block"), default=24, metavar="B",
                    help=f"side of the fit's blocks in points, {bounds_text('--block')} "
                         f"(default 24)")
-    g.add_argument("--blocks", type=int, default=12, metavar="K",
+    g.add_argument("--blocks", type=integer("--blocks"), default=12, metavar="K",
                    help=f"blocks used by the fit, {bounds_text('--blocks')} (default 12)")
     add_force_option(g)
     g.set_defaults(func=run)

@@ -11,7 +11,7 @@ import secrets
 
 import numpy as np
 
-from roughgp.cli.bounds import bounds_text
+from roughgp.cli.bounds import bounds_text, integer
 from roughgp.cli.output import UsageError, err
 from roughgp.common.checks import check_scale
 
@@ -62,7 +62,7 @@ def add_form_options(parser, what="F-operator") -> None:
     parser.add_argument("--form", choices=("plane", "polynomial", "cylinder", "none"),
                         default="plane", action=Given,
                         help=f"{what} (default plane: a line for a profile)")
-    parser.add_argument("--degree", type=int, default=2, metavar="N", action=Given,
+    parser.add_argument("--degree", type=integer("--degree"), default=2, metavar="N", action=Given,
                         help=f"degree of --form polynomial, {bounds_text('--degree')} "
                              f"(default 2)")
     parser.add_argument("--axis", choices=("auto", "x", "y"), default="auto", action=Given,

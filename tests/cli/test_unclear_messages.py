@@ -68,3 +68,14 @@ def test_a_johnson_marginal_refused_is_quoted_as_the_file_states_it(capsys, tmp_
     assert "skewness 1.5 and kurtosis 4 cannot be drawn" in err
     assert "give a marginal kurtosis above 7" in err and "noise_variance_um2" in err
     assert not (tmp_path / "o.npy").exists()
+
+
+def test_a_5000_digit_seed_is_refused_with_the_options_range(capsys, tmp_path):
+    """It gave Python's message of its int() limit (and echoed the 5000 digits)."""
+    code, _, err = _run(capsys, "simulate", "ground", "--shape", 8, 8, "--lambda-a", 4,
+                        "--seed", "9" * 5000, "--out", tmp_path / "s.npy")
+    assert code == 2 and "--seed" in err and "in [0, 4294967295]" in err, err
+    assert "9" * 100 not in err and "limit" not in err
+    code, _, err = _run(capsys, "fill", tmp_path / "x.npy", "--out", tmp_path / "o.npy",
+                        "--block", "x")
+    assert code == 2 and "argument --block: expected an integer, got 'x'" in err, err
