@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from roughgp.common.atomic import atomic_output
+from roughgp.common.atomic import atomic_output, longest_name
 from roughgp.io.writers import check_write_format
 
 __all__ = ["UsageError", "WIDTH", "err", "show_warning", "wrap", "print_wrapped", "table",
@@ -86,8 +86,13 @@ def rename_parameters(message: str, names: dict) -> str:
 
 
 def err(message: str) -> None:
-    """Print ``message`` on stderr (progress, notes, warnings: stdout keeps the results)."""
-    print(message, file=sys.stderr, flush=True)
+    """Print ``message`` on stderr (progress, notes, warnings: stdout keeps the results); the
+    bytes of a file name that is not UTF-8 as ``\\xNN`` where the stream is strict."""
+    try:
+        print(message, file=sys.stderr, flush=True)
+    except UnicodeEncodeError:
+        print(message.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace"),
+              file=sys.stderr, flush=True)
 
 
 def show_warning(message, category, filename, lineno, file=None, line=None) -> None:
@@ -163,7 +168,13 @@ def _same_file(a: Path, b: Path) -> bool:
 
 def _check_writable(path: Path, option: str) -> None:
     """A usage error unless ``path`` can be written: its folder (or the nearest existing one
-    above it, where it is made) is a writable directory."""
+    above it, where it is made) is a writable directory, and its name leaves room for the
+    temporary name it is written through (:func:`roughgp.common.atomic.longest_name`)."""
+    size, most = len(os.fsencode(path.name)), longest_name(path)
+    if size > most:
+        raise UsageError(f"{option}: the file name is {size} bytes long; roughgp writes it "
+                         f"through a longer temporary name, so give a name of at most {most} "
+                         f"bytes")
     if path.exists():
         if not path.is_file():
             raise UsageError(f"{option}: {path} exists and is not a file")

@@ -79,3 +79,34 @@ def test_a_5000_digit_seed_is_refused_with_the_options_range(capsys, tmp_path):
     code, _, err = _run(capsys, "fill", tmp_path / "x.npy", "--out", tmp_path / "o.npy",
                         "--block", "x")
     assert code == 2 and "argument --block: expected an integer, got 'x'" in err, err
+
+
+def test_a_name_too_long_for_the_temporary_file_is_refused_before_the_fit(capsys, tmp_path,
+                                                                         monkeypatch):
+    """A 246-character output name failed only after the fit, on its temporary name."""
+    from roughgp.surface_models import fit as surface_fit
+
+    def never(*args, **kwargs):
+        raise AssertionError("fitted before checking the output's name")
+    monkeypatch.setattr(surface_fit, "fit_surface_model", never)
+    path = tmp_path / "z.npy"
+    np.save(path, np.random.default_rng(0).normal(size=(16, 16)))
+    out = tmp_path / ("a" * 241 + ".json")
+    code, _, err = _run(capsys, "fit", "ground", path, "--out", out)
+    assert code == 2 and "--out: the file name is 246 bytes long" in err, err
+    assert "at most 232 bytes" in err
+
+
+def test_a_file_name_that_is_not_utf8_goes_into_the_x3p_comment(capsys, tmp_path):
+    """A non-UTF-8 input name failed only after the fill, on the x3p comment."""
+    import os
+
+    import roughgp
+    z = np.random.default_rng(0).normal(size=(16, 16))
+    z[3, 3] = np.nan
+    path = os.path.join(os.fsdecode(bytes(tmp_path)), os.fsdecode(b"\xffbad.npy"))
+    np.save(path, z)
+    out = tmp_path / "f.x3p"
+    code, _, err = _run(capsys, "fill", path, "--out", out, "--no-check", "--block", 8)
+    assert code == 0, err
+    assert "\\xffbad.npy" in roughgp.read(out).meta["comment"]
