@@ -110,3 +110,15 @@ def test_a_file_name_that_is_not_utf8_goes_into_the_x3p_comment(capsys, tmp_path
     code, _, err = _run(capsys, "fill", path, "--out", out, "--no-check", "--block", 8)
     assert code == 0, err
     assert "\\xffbad.npy" in roughgp.read(out).meta["comment"]
+
+
+def test_texture_of_a_map_of_coarse_steps_chooses_no_s_filter(capsys, tmp_path):
+    """``texture testing.x3p`` (x3ptools' test file) stopped with "min() arg is an empty
+    sequence": 3 spacings beyond the largest preferred nesting index left no S-filter to
+    choose."""
+    path = tmp_path / "coarse.npy"
+    np.save(path, np.random.default_rng(0).normal(size=(20, 20)))
+    code, out, err = _run(capsys, "texture", path, "--spacing", 30000)
+    assert code == 0, err
+    assert "no S-filter: 3 spacings (90 mm)" in " ".join(out.split())
+    assert "Sq" in out
