@@ -27,6 +27,7 @@ from roughgp.cli.output import (
     print_wrapped,
     write_json,
 )
+from roughgp.cli.pace import Pace
 from roughgp.common.atomic import atomic_output
 
 __all__ = ['add_parser', 'run']
@@ -228,7 +229,8 @@ def _whole(args, model, z, spacing, models, start, json_out, plot, spacing_note,
     calibrated = None
     if args.calibrate is None:
         result = check(model, z, spacing, n_simulations=args.simulations, seed=args.seed,
-                       models=models)
+                       models=models, progress=Pace("simulations, each measured",
+                                                    "a smaller --simulations or --part"))
     else:
         calibrated = _calibrated(model, z, spacing, args, start)
         result = calibrated.check
@@ -376,7 +378,9 @@ def _calibrated(model, z, spacing, args, start):
             f"(--calibrate 9 or more removes that limit)")
     try:
         return check(model, z, spacing, n_simulations=args.simulations, seed=args.seed,
-                     calibrate=args.calibrate, progress=progress)
+                     calibrate=args.calibrate,
+                     progress=Pace("bootstrap copies, each refitted and checked",
+                                   "a smaller --calibrate, --simulations or --part", progress))
     except ValueError as error:  # a copy the refit refuses (too few points, say)
         raise UsageError(f"--calibrate: {error}") from None
 
