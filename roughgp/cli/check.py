@@ -175,7 +175,6 @@ def _predictive_models(model, args, start):
 
 def run(args) -> int:
     """``roughgp check MODEL FILE``."""
-    from roughgp.api import check
     json_out, plot, flagged_out = check_outputs(
         ("--json", args.json, "json"), ("--plot", args.plot, "plot"), flagged_output(args),
         inputs=(("FILE", args.file), ("MODEL", args.model)), force=args.force)

@@ -9,9 +9,9 @@ Gaussian processes" (Surf. Topogr.: Metrol. Prop.). Sub-commands, one module eac
 Units: heights and lengths (spacing, lengthscales, feed, periods) are in micrometres (um).
 Exit codes: 0 success, 1 a claim regressed (``reproduce``), 2 a usage or input error (a
 message, never a traceback), 130 interrupted (SIGINT), 143 terminated (SIGTERM, what
-``timeout`` and ``kill`` send: cleaned up as an interrupt, no partial file left), 141 (quietly) when the reader of a pipe has gone
-(``roughgp texture F | head``). :func:`main` is the entry point (``main(argv) -> int``); it never
-raises ``SystemExit``.
+``timeout`` and ``kill`` send: cleaned up as an interrupt, no partial file left), 141
+(quietly) when the reader of a pipe has gone (``roughgp texture F | head``). :func:`main` is
+the entry point (``main(argv) -> int``); it never raises ``SystemExit``.
 """
 
 from __future__ import annotations
