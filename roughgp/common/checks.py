@@ -109,18 +109,25 @@ def check_scale(name: str, value, *, zero: bool = False) -> float:
 CONSTANT_SHARE = 1e-24
 
 
-def check_varies(what: str, heights, raw=None) -> None:
-    """Raise unless the finite ``heights`` vary: a variance above :data:`CONSTANT_SHARE` times
-    the mean square of ``raw`` (the heights before the operators; default ``heights``), so a
-    constant (or, after a form removal, planar) map is refused by name rather than give
-    parameters of its rounding errors (Sku 16 of a flat map) or a model of variance 1e-34."""
+def constant_variance(heights, raw=None) -> float | None:
+    """The variance of the finite ``heights`` when they are constant: at most
+    :data:`CONSTANT_SHARE` times the mean square of ``raw`` (the heights before the operators;
+    default ``heights``), what the operators' rounding leaves of a constant (or, after a form
+    removal, planar) map; None when they vary."""
     values = np.asarray(heights, dtype=np.float64)
     values = values[np.isfinite(values)]
     reference = values if raw is None else np.asarray(raw, dtype=np.float64)
     scale = float(np.mean(np.square(reference[np.isfinite(reference)]))) \
         if np.isfinite(reference).any() else 0.0
     variance = float(np.var(values)) if values.size else 0.0
-    if not variance > CONSTANT_SHARE * scale or not variance > 0:
+    return variance if not variance > CONSTANT_SHARE * scale or not variance > 0 else None
+
+
+def check_varies(what: str, heights, raw=None) -> None:
+    """Raise unless the finite ``heights`` vary (:func:`constant_variance`), so a constant map
+    is refused by name rather than give a model of variance 1e-34."""
+    variance = constant_variance(heights, raw)
+    if variance is not None:
         raise ValueError(f"{what} are constant (variance {variance:.3g} um^2, no more than "
                          f"the rounding of the operators): a flat map has no texture to "
                          f"measure or model; give a map whose heights vary")

@@ -1,8 +1,8 @@
-"""Issue 44 part 2, a constant map: fit (every model, every marginal), texture (filtered or not)
-and --spurious refuse a map whose heights do not vary (after the F-operator: a plane is flat
-too) by name, exit 2, rather than write a model of variance 4e-34 or print Sku 16 for a flat
-map (roughgp.common.checks.check_varies). Refusal, not NaN: a flat map has no parameter to
-report."""
+"""Issue 44 part 2, a constant map (after the F-operator: a plane is flat too): fit (every model,
+every marginal) and --spurious refuse it by name, exit 2, rather than write a model of variance
+4e-34 or flag 2 of its points (roughgp.common.checks.check_varies); texture reports the
+parameters of a flat surface, 0 or undefined (nan), as it did --unfiltered, rather than Sku 16
+of the operators' rounding."""
 
 from __future__ import annotations
 
@@ -34,21 +34,31 @@ def test_fit_ground_refuses_a_flat_map(capsys, tmp_path, flat, options):
     assert not out.exists()
 
 
-@pytest.mark.parametrize("options", [(), ("--unfiltered",), ("--spurious",)])
-def test_texture_refuses_a_flat_map(capsys, tmp_path, flat, options):
-    if "--unfiltered" in options and "plane" in flat.name:
-        pytest.skip("a tilted plane, unfiltered, has heights that vary")
+@pytest.mark.parametrize("options", [(), ("--l-filter", "none")])
+def test_texture_of_a_flat_map_reports_a_flat_surface(capsys, flat, options):
+    """It printed Sku 16, Ssk 3e-14 and Sal 0.5 um, of the operators' rounding: now the
+    parameters of a flat surface, 0 or undefined (nan), as --unfiltered reports them."""
     code, out, err = _run(capsys, "texture", flat, *options)
+    assert code == 0, err
+    assert "heights after the operators are constant" in " ".join(out.split())
+    values = {line.split()[0]: line.split()[1] for line in out.splitlines()
+              if line.startswith("  S") and len(line.split()) >= 2}
+    assert float(values["Sq"]) == 0.0
+    assert all(values[name] == "nan" for name in ("Ssk", "Sku", "Sal", "Str"))
+
+
+def test_texture_spurious_refuses_a_flat_map(capsys, flat):
+    """--spurious flagged 2 points of a flat map."""
+    code, out, err = _run(capsys, "texture", flat, "--spurious")
     assert code == 2 and CONSTANT in err and str(flat) in err, err
     assert "Sku" not in out
 
 
-def test_the_library_refuses_a_constant_map():
+def test_the_library_refuses_to_fit_a_constant_map():
     z = np.full((32, 32), -1.5)
     with pytest.raises(ValueError, match=CONSTANT):
         roughgp.fit(z, 1.0)
-    with pytest.raises(ValueError, match=CONSTANT):
-        roughgp.texture(z, 1.0)
+    assert np.isnan(roughgp.texture(z, 1.0).parameters["Sku"])
 
 
 def test_a_map_that_varies_a_little_is_measured(capsys, tmp_path):
