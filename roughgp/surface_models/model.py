@@ -57,6 +57,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import weakref
 from pathlib import Path
 
 import numpy as np
@@ -78,6 +79,8 @@ from roughgp.surface_models.schema import (
 __all__ = ["FittedModel", "MODEL_FORMAT", "MODEL_VERSION", "EQUATIONS", "STAGES", "ModelFileError"]
 
 MODEL_VERSION = 2
+#: id -> weak reference of the models whose heights were bounded (FittedModel._bound_heights)
+_HEIGHTS_BOUNDED: dict = {}
 _MAX_SIMULATE_POINTS = 2 ** 24
 
 
@@ -274,10 +277,16 @@ class FittedModel:
     def _bound_heights(self, source="the model") -> None:
         """:func:`~roughgp.surface_models.height_bound.check_height_bound`, once per model (a
         check draws 99 times from one; the measured PSD's variance costs an FFT)."""
-        if not getattr(self, "_heights_bounded", False):
-            from roughgp.surface_models.height_bound import check_height_bound
-            check_height_bound(self, source)
-            object.__setattr__(self, "_heights_bounded", True)  # not a field: not compared
+        checked = _HEIGHTS_BOUNDED.get(id(self))
+        if checked is not None and checked() is self:
+            return
+        from roughgp.surface_models.height_bound import check_height_bound
+        check_height_bound(self, source)
+        if len(_HEIGHTS_BOUNDED) > 4096:  # forget the models gone
+            for key in [k for k, ref in _HEIGHTS_BOUNDED.items() if ref() is None]:
+                del _HEIGHTS_BOUNDED[key]
+        _HEIGHTS_BOUNDED[id(self)] = weakref.ref(self)  # outside the object: its __dict__ is
+        # its fields (FittedModel(**model.__dict__) copies a model)
 
     def _latent_marginal_refusal(self, w, skew, kurt, exc) -> str:
         """Why the Johnson marginal cannot be drawn, in the file's fields: the latent surface
