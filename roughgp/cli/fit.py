@@ -10,7 +10,7 @@ import time
 
 import numpy as np
 
-from roughgp.cli.bounds import bounds_text, check_block
+from roughgp.cli.bounds import bounds_text, check_block, integer
 from roughgp.surface_models.schema import MAX_ANCHORS
 from roughgp.cli.options import (
     add_operator_options,
@@ -18,9 +18,11 @@ from roughgp.cli.options import (
     add_spurious_options,
     check_cutoffs,
     crop_to_part,
+    flagged_output,
     operator_settings,
     read_input,
     remove_spurious,
+    write_flagged,
 )
 from roughgp.cli.output import (
     UsageError, add_force_option, check_device, check_outputs, err, print_wrapped,
@@ -112,7 +114,7 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     models = f.add_subparsers(dest="model", metavar="MODEL", required=True,
                               title="models (roughgp fit MODEL --help for each)")
     shared = argparse.ArgumentParser(add_help=False)
-    shared.add_argument("--seed", type=int, default=0, metavar="S",
+    shared.add_argument("--seed", type=integer("--seed"), default=0, metavar="S",
                         help=f"seed of the fit's initialisations or blocks, "
                              f"{bounds_text('--seed')} (default 0)")
     shared.add_argument("--non-gaussian", action="store_true",
@@ -124,10 +126,10 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                           help="eq 21 spectral mixture of a profile (section 3.3)")
     add_input_options(p)
     add_operator_options(p, s_default="none", l_default="none")
-    p.add_argument("--mixtures", type=int, default=5, metavar="Q",
+    p.add_argument("--mixtures", type=integer("--mixtures"), default=5, metavar="Q",
                    help=f"spectral-mixture components, {bounds_text('--mixtures')} (default "
                         f"5, the paper's)")
-    p.add_argument("--candidates", type=int, default=10, metavar="N",
+    p.add_argument("--candidates", type=integer("--candidates"), default=10, metavar="N",
                    help=f"initialisations scored, {bounds_text('--candidates')} (default 10)")
     p.add_argument("--profile-axis", choices=("x", "y"), default="x",
                    help="for a surface: the direction of the mean profile (default x)")
@@ -157,16 +159,16 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                         "random blocks of --block x --block points) or whittle (the debiased "
                         "spatial Whittle likelihood of every measured point: its precision "
                         "grows with the map)")
-    g.add_argument("--anchors", type=int, nargs=2, default=None, metavar=("M", "N"),
+    g.add_argument("--anchors", type=integer("--anchors"), nargs=2, default=None, metavar=("M", "N"),
                    help="--model field: the fields' anchors, the centres of M x N tiles of "
                         "at least 16 x 16 points, M and N in [1, 32] (default 4 4)")
     g.add_argument("--device", metavar="DEV",
                    help="--likelihood whittle or --model field: compute the Whittle fits' "
                         "FFTs and gradients through torch on DEV (cpu, cuda, cuda:N)")
-    g.add_argument("--block", type=int, default=24, metavar="B",
+    g.add_argument("--block", type=integer("--block"), default=24, metavar="B",
                    help=f"side of the fit's blocks in points, {bounds_text('--block')} "
                         f"(default 24)")
-    g.add_argument("--blocks", type=int, default=12, metavar="K",
+    g.add_argument("--blocks", type=integer("--blocks"), default=12, metavar="K",
                    help=f"blocks used by the fit, {bounds_text('--blocks')} (default 12)")
     add_force_option(g)
     g.set_defaults(func=run)
@@ -178,7 +180,8 @@ def run(args) -> int:
     """``roughgp fit MODEL FILE``."""
     _check_fit_device(args)
     operators = operator_settings(args)
-    (out,) = check_outputs(("--out", args.out, "json"), inputs=(args.file,), force=args.force)
+    out, flagged_out = check_outputs(("--out", args.out, "json"), flagged_output(args),
+                                     inputs=(("FILE", args.file),), force=args.force)
     heights = read_input(args, getattr(args, "kind", "surface"))
     full_shape = heights.z.shape
     heights, part = crop_to_part(args, heights)
@@ -193,14 +196,15 @@ def run(args) -> int:
             f"columns {part.cols[0]}:{part.cols[1]} of {full_shape[0]} x {full_shape[1]}")
     start = time.perf_counter()
     if args.model == "profile":
-        model = _fit_profile(args, heights, operators, data)
+        model, found = _fit_profile(args, heights, operators, data), None
     else:
-        model = _fit_ground(args, heights, operators, data)
+        model, found = _fit_ground(args, heights, operators, data)
     err(f"({time.perf_counter() - start:.1f} s)")
     if out is not None:
         with atomic_output(out) as partial:  # whole or not at all; missing folders made
             model.save(partial)
         err(f"wrote {out} (roughgp model file; roughgp simulate --from {out.name} ...)")
+    write_flagged(flagged_out, found, args, heights)
     return 0
 
 
@@ -371,7 +375,7 @@ def _fit_ground(args, heights, operators, data):
     if heights.kind != "surface":
         raise UsageError(f"{args.file} holds a profile; fit ground needs a surface z[iy, ix] "
                          f"(fit a profile with: roughgp fit profile)")
-    z = remove_spurious(args, heights, operators["form"])
+    z, found = remove_spurious(args, heights, operators["form"])
     check_block(args.file, args.block, z.shape)
     missing = np.isnan(z)
     err(f"{args.file}: {z.shape[0]} x {z.shape[1]} points, spacing "
@@ -381,7 +385,7 @@ def _fit_ground(args, heights, operators, data):
     if args.rung == "field":
         return _fit_field(args, heights, operators, data, z)
     if args.rung != "eq18":
-        return _fit_rungs(args, heights, operators, data, z)
+        return _fit_rungs(args, heights, operators, data, z), found
     try:
         result = fit_surface_model(z, heights.spacing, **operators, block=args.block,
                                    n_blocks=args.blocks, seed=args.seed, nu=args.nu,
@@ -412,7 +416,7 @@ def _fit_ground(args, heights, operators, data):
     for note in result.range_notes:
         print_wrapped(f"note: {note}")
     _print_marginal(model)
-    return model
+    return model, found
 
 
 def _print_marginal(model):

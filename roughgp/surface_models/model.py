@@ -57,6 +57,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import weakref
 from pathlib import Path
 
 import numpy as np
@@ -78,6 +79,8 @@ from roughgp.surface_models.schema import (
 __all__ = ["FittedModel", "MODEL_FORMAT", "MODEL_VERSION", "EQUATIONS", "STAGES", "ModelFileError"]
 
 MODEL_VERSION = 2
+#: id -> weak reference of the models whose heights were bounded (FittedModel._bound_heights)
+_HEIGHTS_BOUNDED: dict = {}
 _MAX_SIMULATE_POINTS = 2 ** 24
 
 
@@ -243,6 +246,7 @@ class FittedModel:
             raise ValueError(f"n_samples x shape = {count * math.prod(shape)} points exceeds "
                              f"{_MAX_SIMULATE_POINTS} (2**24): draw fewer or smaller surfaces")
         shape, spacing = normalize(shape, self.spacing if spacing is None else spacing)
+        self._bound_heights()  # before drawing: no height beyond the readers' 1 m
         rng = as_generator(seed)
         if self.equation == "eq18-field":
             from roughgp.surface_models.field_draw import draw_field_model
@@ -275,11 +279,44 @@ class FittedModel:
             w = self.latent_variance() / (self.latent_variance() + self.noise_variance)
             skew = float(self.marginal["skewness"]) / w ** 1.5
             kurt = 3.0 + (float(self.marginal["kurtosis"]) - 3.0) / w ** 2
-            latent, _ = non_gaussian_surface(self.kernel(), shape, skewness=skew, kurtosis=kurt,
-                                             spacing=spacing, seed=rng, n_samples=count,
-                                             method="circulant" if method == "auto" else method)
+            try:
+                latent, _ = non_gaussian_surface(
+                    self.kernel(), shape, skewness=skew, kurtosis=kurt, spacing=spacing,
+                    seed=rng, n_samples=count,
+                    method="circulant" if method == "auto" else method)
+            except ValueError as exc:
+                if "kurtosis" not in str(exc):
+                    raise
+                raise ValueError(self._latent_marginal_refusal(w, skew, kurt, exc)) from None
         z = GaussianNoise(self.noise_variance).sample(latent, seed=rng)
         return self._returned(z, n_samples)
+
+    def _bound_heights(self, source="the model") -> None:
+        """:func:`~roughgp.surface_models.height_bound.check_height_bound`, once per model (a
+        check draws 99 times from one; the measured PSD's variance costs an FFT)."""
+        checked = _HEIGHTS_BOUNDED.get(id(self))
+        if checked is not None and checked() is self:
+            return
+        from roughgp.surface_models.height_bound import check_height_bound
+        check_height_bound(self, source)
+        if len(_HEIGHTS_BOUNDED) > 4096:  # forget the models gone
+            for key in [k for k, ref in _HEIGHTS_BOUNDED.items() if ref() is None]:
+                del _HEIGHTS_BOUNDED[key]
+        _HEIGHTS_BOUNDED[id(self)] = weakref.ref(self)  # outside the object: its __dict__ is
+        # its fields (FittedModel(**model.__dict__) copies a model)
+
+    def _latent_marginal_refusal(self, w, skew, kurt, exc) -> str:
+        """Why the Johnson marginal cannot be drawn, in the file's fields: the latent surface
+        carries a share ``w`` of the variance, so the heights' skewness and kurtosis ask it
+        for ``skew`` and ``kurt`` (``exc``: the Johnson fit's refusal of those)."""
+        s, k = float(self.marginal["skewness"]), float(self.marginal["kurtosis"])
+        least = 3.0 + s * s / w - 2.0 * w * w  # kurt > skew**2 + 1, in the file's terms
+        return (f"the marginal's skewness {s:.4g} and kurtosis {k:.4g} cannot be drawn with "
+                f"this noise: the latent surface carries {w:.3g} of the variance "
+                f"(variance against noise_variance_um2 {self.noise_variance:.4g} um^2), so it "
+                f"would need skewness {skew:.4g} and kurtosis {kurt:.4g} ({exc}); give a "
+                f"marginal kurtosis above {least:.4g}, a smaller skewness or a smaller "
+                f"noise_variance_um2")
 
     @staticmethod
     def _returned(z, n_samples):
@@ -337,8 +374,11 @@ class FittedModel:
     @classmethod
     def from_dict(cls, values, source="the model") -> "FittedModel":
         """A model from the parsed JSON of a model file, validated
-        (:func:`~roughgp.surface_models.schema.validate_record`)."""
-        return cls(**validate_record(values, source))
+        (:func:`~roughgp.surface_models.schema.validate_record`) and its heights bounded
+        (:func:`~roughgp.surface_models.height_bound.check_height_bound`)."""
+        model = cls(**validate_record(values, source))
+        model._bound_heights(source)
+        return model
 
     def save(self, path) -> Path:
         """Write the model file whole or not at all (:func:`roughgp.common.atomic.atomic_output`:

@@ -17,8 +17,8 @@ import math
 
 __all__ = ["ModelFileError", "MODEL_FORMAT", "MODEL_VERSIONS", "STAGES", "EQUATIONS", "RANGES",
            "MAX_DEPTH", "MAX_FILE_BYTES", "MAX_MIXTURES", "MAX_SM2D_COMPONENTS",
-           "SM2D_BANDWIDTHS", "FORMS", "AXES", "MAX_ANCHORS", "FIELD_NAMES", "validate_record",
-           "check_fields"]
+           "SM2D_BANDWIDTHS", "FORMS", "AXES", "MAX_ANCHORS", "FIELD_NAMES", "FIT_INTEGERS",
+           "FIT_LIKELIHOODS", "validate_record", "check_fields", "check_fit"]
 
 MODEL_FORMAT = "roughgp-model"
 #: versions read: 1 (no stage: its models describe the filtered heights) and 2
@@ -63,11 +63,17 @@ MAX_MIXTURES = 50
 MAX_DEPTH = 8
 MAX_FILE_BYTES = 1 << 20
 MAX_OPERATORS = 16
+#: the fields of the ``fit`` object that roughgp reads back (a calibrated check refits the
+#: model the way it was fitted): integer name -> allowed range; ``likelihood`` one of
+#: :data:`FIT_LIKELIHOODS`. The object's other fields (method, log likelihood, notes) are a
+#: record, not read back.
+FIT_INTEGERS = {"seed": (0, 2**32 - 1), "block": (4, 1024), "n_blocks": (1, 10000)}
+FIT_LIKELIHOODS = ("blocks", "whittle")
 FORMS = ("plane", "polynomial", "cylinder", None)
 AXES = ("auto", "x", "y")
 #: name -> (low, high, low included): the allowed range of each number (um, um^2, deg, 1/um)
 RANGES = {
-    "spacing_um": (0.0, 1e6, False),
+    "spacing_um": (1e-6, 1e6, True),  # the readers' step (roughgp.io.plausibility): 1 pm to 1 m
     "variance_um2": (0.0, 1e12, False),
     "weights_um2": (0.0, 1e12, False),
     "noise_variance_um2": (0.0, 1e12, True),
@@ -261,6 +267,11 @@ def _check_psd(hp):
         total += sum(number("psd_um4", v, where=f"psd_um4[{i}][{j}]") for j, v in enumerate(row))
     if not total > 0:
         raise ModelFileError("psd_um4 must hold at least one value > 0")
+    if hp["noise_variance_um2"] != 0:
+        raise ModelFileError(f"noise_variance_um2 of a measured-psd model must be 0 (its white "
+                             f"noise is part of psd_um4, the table's flat high-frequency "
+                             f"floor, and no command adds another), got "
+                             f"{hp['noise_variance_um2']!r}")
     low = number("frequency_min_per_um", hp["frequency_min_per_um"])
     high = number("frequency_max_per_um", hp["frequency_max_per_um"])
     if not low < high:
@@ -319,6 +330,20 @@ def _check_sm2d(hp, spacing):
                                      f"the Nyquist frequency), got {b!r}")
 
 
+def check_fit(fit) -> None:
+    """The ``fit`` object's fields that are read back (:data:`FIT_INTEGERS`, ``likelihood``):
+    integers (not ``true``, not ``"24"``, not ``[1]``) in their ranges, a known likelihood."""
+    for name, (low, high) in FIT_INTEGERS.items():
+        if name in fit:
+            value = fit[name]
+            if not isinstance(value, int) or isinstance(value, bool) or not low <= value <= high:
+                raise ModelFileError(f"fit.{name} must be an integer in [{low}, {high}], got "
+                                     f"{value!r:.60}")
+    if "likelihood" in fit and fit["likelihood"] not in FIT_LIKELIHOODS:
+        raise ModelFileError(f"fit.likelihood must be one of {list(FIT_LIKELIHOODS)}, got "
+                             f"{fit['likelihood']!r:.60}")
+
+
 def _check_cutoffs(cutoffs):
     if not isinstance(cutoffs, dict):
         raise ModelFileError(f"cutoffs must be an object, got {cutoffs!r}")
@@ -361,6 +386,10 @@ def validate_record(values, source="the model") -> dict:
     extra = sorted(set(values) - _TOP)
     if extra:
         raise ModelFileError(f"{source} has unknown field(s) {', '.join(map(str, extra))}")
+    if version == 1 and values.get("stage", "filtered") != "filtered":
+        raise ModelFileError(f"{source} is a model file of version 1, whose models describe the "
+                             f"filtered heights, but states \"stage\": {values['stage']!r:.60}: "
+                             f"give \"version\": 2 to keep that stage, or drop the stage")
     for name in ("data", "fit", "cutoffs"):
         if not isinstance(values.get(name, {}), dict):
             raise ModelFileError(f"{source}: {name} must be an object, got {values[name]!r}")
@@ -373,6 +402,7 @@ def validate_record(values, source="the model") -> dict:
               "stage": values["stage"] if version > 1 else "filtered"}
     try:
         check_fields(**fields)
+        check_fit(values.get("fit", {}))
     except ModelFileError as exc:
         raise ModelFileError(f"{source}: {exc}") from None
     if "kind" in values and values["kind"] != EQUATIONS[values["equation"]][0]:
