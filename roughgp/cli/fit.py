@@ -383,7 +383,7 @@ def _fit_ground(args, heights, operators, data):
         f"{missing.sum()} missing ({missing.mean():.1%}); fitting "
         + ("eq 18 plus noise ..." if args.rung == "eq18" else f"--model {args.rung} ..."))
     if args.rung == "field":
-        return _fit_field(args, heights, operators, data, z)
+        return _fit_field(args, heights, operators, data, z), found
     if args.rung != "eq18":
         return _fit_rungs(args, heights, operators, data, z), found
     try:
