@@ -197,6 +197,7 @@ def _fit_profile(heights, options, seed, data, folder):
     from roughgp.io.measurement import mean_profile
     from roughgp.surface_models.fit import fit_profile_model
     operators = operators_of(options, s_default="none", l_default="none")
+    _check_cutoffs(operators, heights.z.shape, heights.spacing)
     z, spacing, how = mean_profile(heights, options.get("profile_axis", "x"))
     if np.isnan(z).any():
         raise ValueError(f"{how}: unmeasured points; the eq 21 fit needs a complete profile")
