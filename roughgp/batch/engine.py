@@ -1,6 +1,7 @@
 """The batch engine: measurement files run through a :class:`~roughgp.batch.records.Plan` on a
 Dask cluster (``dask.distributed``), each file's record written as it ends, one table at the end
-(:func:`run_batch`).
+(:func:`run_batch`), on :func:`run_cases`, which runs any independent seeded cases on the same
+cluster (the project's long benchmarks: ``benchmarks/model_check_calibration.py``).
 
 * The cluster: by default a ``LocalCluster`` of ``workers`` processes (default: the machine's
   cores), one thread each, with the BLAS libraries limited to one thread per worker (the
@@ -34,7 +35,7 @@ from roughgp.batch.records import Plan, current_record, record_name, write_recor
 from roughgp.batch.table import write_table
 from roughgp.common.digests import file_sha256
 
-__all__ = ["expand_inputs", "BatchResult", "run_batch", "BLAS_ENV", "default_workers",
+__all__ = ["expand_inputs", "BatchResult", "run_batch", "run_cases", "BLAS_ENV", "default_workers",
            "NOT_MEASUREMENTS"]
 
 #: the environment of each local worker process: one BLAS / OpenMP thread
@@ -127,6 +128,51 @@ def _client(workers, scheduler):
     return Client(cluster), cluster
 
 
+def run_cases(function, cases, *, workers=None, scheduler=None, client=None, started=None,
+              on_result=None) -> None:
+    """Run ``function(*args)`` for each ``(key, args, name)`` of ``cases`` on a Dask cluster and
+    call ``on_result(key, result)`` in this process as each ends, in the order they end
+    (``result`` is the exception where the call raised or its worker was lost). The engine of
+    :func:`run_batch`, and of any long run made of independent cases (a benchmark's seeded
+    cases: what a case computes must depend on its arguments only, never on the order or the
+    worker, so that the records are the same with any number of workers).
+
+    The cluster: ``client`` (an existing ``distributed.Client``, kept open), else the scheduler
+    at ``scheduler``, else a new ``LocalCluster`` of ``workers`` single-threaded processes
+    (default :func:`default_workers`; BLAS on one thread), closed at the end. ``name``: the
+    task's key in Dask (unique). ``started``: called with the dashboard's address (None for a
+    local cluster) and the number of workers once the cluster is up. A KeyboardInterrupt ends
+    the run at once (the cluster closed); what ``on_result`` wrote stays.
+    """
+    cases = list(cases)
+    if not cases:
+        return
+    own = client is None
+    cluster = None
+    if own:
+        client, cluster = _client(workers or default_workers(), scheduler)
+    try:
+        from distributed import as_completed
+        link = getattr(client, "dashboard_link", None) if (scheduler or not own) else None
+        n_workers = max(1, len(client.scheduler_info().get("workers", {})))
+        if started is not None:
+            started(link, n_workers)
+        futures = {client.submit(function, *args, key=name, pure=False): key
+                   for key, args, name in cases}
+        for future in as_completed(futures):
+            try:
+                result = future.result()
+            except Exception as exc:  # noqa: BLE001 - handed to on_result
+                result = exc
+            if on_result is not None:
+                on_result(futures[future], result)
+    finally:
+        if own:
+            client.close()
+            if cluster is not None:
+                cluster.close()
+
+
 def run_batch(files, plan: Plan, out, *, workers=None, scheduler=None, progress=None,
               client=None, started=None) -> BatchResult:
     """Run ``plan`` on each of ``files`` on a Dask cluster, writing into the folder ``out``
@@ -164,49 +210,40 @@ def run_batch(files, plan: Plan, out, *, workers=None, scheduler=None, progress=
     skipped = sum(r.get("status") == "done" for r in records.values())
     total = len(files)
     failed = sum(r.get("status") != "done" for r in records.values())
-    dashboard = None
+    state = {"ended": 0, "failed": failed, "start": None, "workers": 1}
+    dashboard = []
+
+    def on_start(link, n_workers):
+        dashboard.append(link)
+        state["start"], state["workers"] = time.perf_counter(), n_workers
+        if started is not None:
+            started(link)
+        if progress is not None:
+            progress(skipped, failed, min(n_workers, len(pending)), total, None, None)
+
+    def on_result(key, result):
+        path, sha, name = key
+        if isinstance(result, BaseException):  # a worker lost, say: the file's row says so
+            result = {"path": str(path), "sha256": sha, "status": "failed",
+                      "error": f"worker: {type(result).__name__}: {result}"}
+        write_record(records_dir / f"{name}.json", result)  # a failed one is run again
+        state["failed"] += result.get("status") != "done"
+        records[name] = result
+        state["ended"] += 1
+        if progress is not None:  # the ETA: the rate so far (all workers together)
+            left = len(pending) - state["ended"]
+            eta = (time.perf_counter() - state["start"]) / state["ended"] * left
+            progress(skipped + state["ended"], state["failed"],
+                     min(state["workers"], left), total, eta, result)
+
     if pending:
-        own = client is None
-        cluster = None
-        if own:
-            client, cluster = _client(workers or default_workers(), scheduler)
-        try:
-            if scheduler is not None or not own:
-                dashboard = getattr(client, "dashboard_link", None)
-            if started is not None:
-                started(dashboard)
-            from distributed import as_completed
-            n_workers = max(1, len(client.scheduler_info().get("workers", {})))
-            digest = plan.digest()[:8]
-            futures = {}
-            for path, sha, name in pending:
-                future = client.submit(_task, str(path), sha, plan, str(files_dir / name),
-                                       key=f"roughgp-batch-{name}-{sha[:8]}-{digest}",
-                                       pure=False)
-                futures[future] = (path, sha, name)
-            start, ended = time.perf_counter(), 0
-            if progress is not None:
-                progress(skipped, failed, min(n_workers, len(pending)), total, None, None)
-            for future in as_completed(futures):
-                path, sha, name = futures[future]
-                try:
-                    record = future.result()
-                except Exception as exc:  # noqa: BLE001 - a worker lost, say: the file's row
-                    record = {"path": str(path), "sha256": sha, "status": "failed",
-                              "error": f"worker: {type(exc).__name__}: {exc}"}
-                write_record(records_dir / f"{name}.json", record)  # a failed one: rerun
-                failed += record.get("status") != "done"
-                records[name] = record
-                ended += 1
-                if progress is not None:  # the ETA: the rate so far (all workers together)
-                    left = len(pending) - ended
-                    eta = (time.perf_counter() - start) / ended * left
-                    progress(skipped + ended, failed, min(n_workers, left), total, eta, record)
-        finally:
-            if own:
-                client.close()
-                if cluster is not None:
-                    cluster.close()
+        digest = plan.digest()[:8]
+        cases = [((path, sha, name), (str(path), sha, plan, str(files_dir / name)),
+                  f"roughgp-batch-{name}-{sha[:8]}-{digest}") for path, sha, name in pending]
+        run_cases(_task, cases, workers=workers, scheduler=scheduler, client=client,
+                  started=on_start, on_result=on_result)
+    failed = state["failed"]
+    dashboard = dashboard[0] if dashboard else None
     ordered = [records[name] for _, _, name in entries]
     tables = write_table(ordered, out)
     return BatchResult(records=ordered, ran=len(pending), skipped=skipped, failed=failed,

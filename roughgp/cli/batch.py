@@ -50,15 +50,14 @@ A folder is read without its subfolders, hidden files, and files that are no mea
 (.md, .json, .png, ..., LICENSE*, README*); files inside FOLDER are never inputs and an input
 is never written over.
 
-exit codes: 0 every file done; 2 a usage error (nothing was run); {FAILED_BASE} + N when N
-files failed ({FAILED_BASE + 1}: one file, ..., {FAILED_BASE + 99}: 99 or more; their errors
-are in the table's error column); 130 interrupted (the complete records are kept: run again
-to resume).
+exit codes: 0 every file done; 2 a usage error (nothing was run); {FAILED_BASE} + N when N files
+failed ({FAILED_BASE + 1}: one file, ..., {FAILED_BASE + 99}: 99 or more; their errors are in the table's error
+column); 130 interrupted (the complete records are kept: run again to resume).
 
 examples:
   roughgp batch data/ --out batch/                      texture, fit, check of every map
   roughgp batch 'maps/*.x3p' --steps texture,fit --model auto --workers 2 --out maps-batch/
-  roughgp batch maps/ --scheduler tcp://10.0.0.5:8786 --out /shared/batch/"""
+  roughgp batch maps/ --scheduler tcp://HOST:8786 --out /shared/batch/"""
 
 
 def steps_option(text: str) -> tuple:
