@@ -203,3 +203,27 @@ def test_an_interrupted_batch_resumes_to_the_uninterrupted_table(tmp_path, batch
     assert all(kept[n] == first[n] for n in done)  # none processed twice
     assert len(kept) == 3  # none lost
     assert _comparable(out) == _comparable(batch["out"])
+
+
+def test_fit_model_auto_gives_the_single_command_s_choice_and_model(tmp_path, capsys):
+    """``--model auto`` (the ladder chosen by held-out kriging; 2000 measured points at least:
+    a 48 x 48 crop): the batch's choice and model are ``roughgp fit ground --model auto``'s."""
+    import roughgp
+    from roughgp.io.writers import write_heights
+    measured = roughgp.read(ROOT / "data" / "nid-1-crop.x3p")
+    path = tmp_path / "in" / "map.x3p"
+    path.parent.mkdir()
+    write_heights(path, measured.z[:48, :48], measured.spacing[0], "a crop for the tests")
+    out = tmp_path / "out"
+    code, _, err = run(capsys, "batch", path.parent, "--out", out, "--workers", "1",
+                       "--steps", "fit", "--model", "auto", *SMALL)
+    assert code == 0, err
+    (record,) = _records(out).values()
+    model = tmp_path / "model.json"
+    code, stdout, err = run(capsys, "fit", "ground", path, "--model", "auto", "--seed",
+                            record["seed"], *SMALL, "--out", model)
+    assert code == 0, err
+    assert f"chose {record['fit']['chosen']}:" in stdout
+    single = json.loads(model.read_text())
+    assert single["equation"] == record["fit"]["equation"]
+    assert single["hyperparameters"] == record["fit"]["hyperparameters"]
