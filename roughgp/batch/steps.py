@@ -240,8 +240,8 @@ def _check(path, heights, model_path, options, seed, folder):
         from roughgp.common.atomic import atomic_output
         out = Path(folder) / ARTEFACTS["check"]
         with atomic_output(out) as partial:
-            figure = plot_model_check(result, partial, title=f"{Path(path).name}: the measurement (line) "
-                                      f"among {n} simulations")
+            title = f"{Path(path).name}: the measurement (line) among {n} simulations"
+            figure = plot_model_check(result, partial, title=title)
         plt.close(figure)
         entry["plot"] = _relative(out)
     return entry

@@ -19,6 +19,7 @@ __all__ = ["add_parser", "run", "steps_option", "exit_code", "FAILED_BASE"]
 FAILED_BASE = 10
 
 _STEPS = ("texture", "fit", "check", "fill", "simulate")
+_ONE, _MANY = FAILED_BASE + 1, FAILED_BASE + 99
 
 _BATCH = f"""\
 Run the steps of the single commands over many measurement files on a Dask cluster and
@@ -51,7 +52,7 @@ A folder is read without its subfolders, hidden files, and files that are no mea
 is never written over.
 
 exit codes: 0 every file done; 2 a usage error (nothing was run); {FAILED_BASE} + N when N files
-failed ({FAILED_BASE + 1}: one file, ..., {FAILED_BASE + 99}: 99 or more; their errors are in the table's error
+failed ({_ONE}: one file, ..., {_MANY}: 99 or more; their errors are in the table's error
 column); 130 interrupted (the complete records are kept: run again to resume).
 
 examples:

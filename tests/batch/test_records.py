@@ -80,13 +80,14 @@ def test_one_file_through_its_steps_and_a_corrupt_one_in_its_row(tmp_path):
     np.save(path, z)
     plan = Plan(steps=("texture", "fit", "check", "fill", "simulate"), seed=5,
                 options={"fit": {"block": 8, "blocks": 3, "l": "none"},
-                         "check": {"simulations": 3}, "fill": {"self_check": False}})
+                         "check": {"simulations": 3, "plot": True},
+                         "fill": {"self_check": False}})
     sha = file_sha256(path)
     record = run_file(str(path), sha, plan, str(tmp_path / "files" / "map"))
     assert record["status"] == "done", record["error"]
     assert record["seed"] == file_seed(5, sha) and record["missing"] == 15
     assert record["fit"]["model_file"] == "files/map/model.json"
-    for name in ("model.json", "filled.x3p", "simulated.x3p"):
+    for name in ("model.json", "filled.x3p", "simulated.x3p", "check.png"):
         assert (tmp_path / "files" / "map" / name).is_file()
     assert record["fill"]["filled"] == 15
     bad = tmp_path / "bad.npy"
