@@ -18,6 +18,9 @@ Cases (each timed as the best of ``--repeats`` calls, on the GPU after one untim
 * ``spectral mixture fit``: fit_spectral_mixture with Q = 5 on an n-point two-line profile
   (the fitting benchmark's): the Toeplitz recursion against the dense route on the GPU
   (torch on the CPU is left out: its dense route is far slower than the recursion there).
+* ``whittle fit``: fit_whittle (the debiased spatial Whittle fit of eq 18, issue 40) on an
+  n x n ground surface with the gap-filling case's holes; it is torch throughout, so its
+  'numpy' column is torch on the CPU (device=None) and the 'cpu' column is left out.
 
 Prints seconds per case and backend, and the ratios numpy / device. Not a test: run it by
 hand (the sizes below fit a 2-core CPU in a few minutes with --quick):
@@ -43,7 +46,7 @@ from roughgp.filling import global_fill as gap_filling
 from roughgp.common import device as devices
 from roughgp.gp import kernels
 from roughgp.gp.toeplitz import toeplitz_log_likelihood
-from roughgp.inference import fitting, posterior
+from roughgp.inference import fitting, posterior, whittle_fit
 from roughgp.models import surfaces
 
 FIGURE_2 = dict(variance=10.0, lengthscales=(500.0, 5.0), angle=math.pi / 6)
@@ -51,13 +54,15 @@ SHORT = dict(variance=10.0, lengthscales=(30.0, 5.0), angle=math.pi / 6)
 SIZES = {
     "quick": {"circulant draw": [256, 512], "cholesky draw": [24, 32],
               "patch likelihood": [24, 32], "profile likelihood": [1024, 2048],
-              "gap filling": [128], "spectral mixture fit": [1024]},
+              "gap filling": [128], "spectral mixture fit": [1024], "whittle fit": [64]},
     "default": {"circulant draw": [2048], "cholesky draw": [64, 96, 128],
                 "patch likelihood": [64, 96, 128], "profile likelihood": [8192, 16384],
-                "gap filling": [512], "spectral mixture fit": [8192]},
+                "gap filling": [512], "spectral mixture fit": [8192],
+                "whittle fit": [256, 512]},
     "full": {"circulant draw": [2048, 4096], "cholesky draw": [64, 96, 128, 160],
              "patch likelihood": [64, 96, 128, 160], "profile likelihood": [8192, 16384],
-             "gap filling": [512, 1024, 2048], "spectral mixture fit": [8192, 16384]},
+             "gap filling": [512, 1024, 2048], "spectral mixture fit": [8192, 16384],
+             "whittle fit": [512, 1024, 2048]},
 }
 
 
@@ -118,6 +123,9 @@ def case(name, n, backend):
 
         x, z = two_line_profile(n)
         return lambda: fitting.fit_spectral_mixture(x, z, 5, seed=0, device=device)
+    if name == "whittle fit":
+        z = _gappy_surface(n)
+        return lambda: whittle_fit.fit_whittle(z, device=device)
     raise ValueError(name)
 
 
@@ -160,7 +168,7 @@ def main():
             label = f"{n}" if name in ("profile likelihood", "spectral mixture fit") else f"{n} x {n}"
             times = {}
             for backend in backends:
-                if name == "spectral mixture fit" and backend == "cpu":
+                if name in ("spectral mixture fit", "whittle fit") and backend == "cpu":
                     times[backend] = None
                     continue
                 try:

@@ -177,8 +177,9 @@ def check(model, surface, spacing=None, *, n_simulations=19, seed=0, calibrate=N
     with ``calibrate=B``, a :class:`~roughgp.checking.calibrated.CalibratedCheck` calibrated by
     B refitted bootstrap copies (for a model fitted to this very measurement:
     :func:`roughgp.checking.calibrated.calibrated_check`). ``spacing`` defaults to the
-    measurement's (the model's for an array); ``options``: ``names``, and ``progress`` or
-    ``level`` of the calibrated check.
+    measurement's (the model's for an array); ``options``: ``names``, ``progress`` (called
+    with ``(k, n)`` after each simulation, or after each bootstrap copy with ``calibrate``),
+    and ``level`` of the calibrated check.
     """
     model = _model(model)
     if hasattr(surface, "z") and hasattr(surface, "spacing"):

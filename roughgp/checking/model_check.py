@@ -180,7 +180,7 @@ def draw_models(model: FittedModel, models, n_simulations) -> list:
 
 
 def check_model(model: FittedModel, z, spacing=None, *, n_simulations=19, seed=0,
-                names=None, models=None) -> ModelCheck:
+                names=None, models=None, progress=None) -> ModelCheck:
     """Place the texture parameters of the measurement ``z`` among those of ``n_simulations``
     draws of ``model`` (module docstring).
 
@@ -192,6 +192,7 @@ def check_model(model: FittedModel, z, spacing=None, *, n_simulations=19, seed=0
         n_simulations: draws (>= 2; the default 19 makes "outside the range" a 10 % test).
         seed: of the draws; the same seed gives the same table.
         names: the parameters (default :data:`SURFACE_PARAMETERS` / :data:`PROFILE_PARAMETERS`).
+        progress: None or a function called with ``(k, n_simulations)`` after each draw.
         models: None (every draw from ``model``: the plug-in check) or models to draw from in
             turn (the predictive check, :func:`draw_models`); ``model`` still gives the
             operators.
@@ -227,13 +228,15 @@ def check_model(model: FittedModel, z, spacing=None, *, n_simulations=19, seed=0
                      f"in turn (the fit's uncertainty carried), not from the one fitted model")
     simulated = {n: [] for n in names}
     first = None
-    for source in sources:
+    for k, source in enumerate(sources, start=1):
         draw = source.simulate(z.shape, seed=rng, spacing=spacing)
         h = rest_of_chain(model, draw, spacing, holes if holes.any() else None).sl
         values = chain_parameters(h, holes, spacing, names, areal, spatial)
         first = h if first is None else first
         for n in names:
             simulated[n].append(values[n])
+        if progress is not None:
+            progress(k, len(sources))
     checks = []
     for n in names:
         sims = np.asarray(simulated[n], dtype=np.float64)

@@ -9,7 +9,7 @@ import argparse
 import os
 from pathlib import Path
 
-from roughgp.cli.bounds import bounds_text
+from roughgp.cli.bounds import bounds_text, integer
 from roughgp.cli.options import Given, cutoff
 from roughgp.cli.output import UsageError, err
 
@@ -92,10 +92,10 @@ def add_parser(sub, formatter) -> None:
                    metavar="S,S",
                    help=f"the steps, comma-separated, of {', '.join(_STEPS)} (default "
                         f"texture,fit,check; check and simulate need fit)")
-    b.add_argument("--seed", type=int, default=0, metavar="S",
+    b.add_argument("--seed", type=integer("--seed"), default=0, metavar="S",
                    help=f"the batch's seed, {bounds_text('--seed')} (default 0); each file's "
                         f"is derived from it and the file's SHA-256")
-    b.add_argument("--workers", type=int, metavar="N",
+    b.add_argument("--workers", type=integer("--workers"), metavar="N",
                    help=f"local worker processes, {bounds_text('--workers')} (default: the "
                         f"cores, {_cores()} here)")
     b.add_argument("--scheduler", metavar="ADDRESS",
@@ -107,7 +107,7 @@ def add_parser(sub, formatter) -> None:
                         f"each file's")
     g.add_argument("--kind", choices=("auto", "profile", "surface"), default="auto",
                    help="read text tables as profiles or surfaces (default auto)")
-    g.add_argument("--channel", type=int, default=0, metavar="K",
+    g.add_argument("--channel", type=integer("--channel"), default=0, metavar="K",
                    help=f"the data channel of instrument files, {bounds_text('--channel')} "
                         f"(default 0)")
     g.add_argument("--unit", choices=("m", "mm", "um", "nm"), metavar="U",
@@ -115,7 +115,7 @@ def add_parser(sub, formatter) -> None:
     o = b.add_argument_group("operators (texture and fit, as their commands)")
     o.add_argument("--form", choices=("plane", "polynomial", "cylinder", "none"),
                    default="plane", help="F-operator (default plane)")
-    o.add_argument("--degree", type=int, default=2, metavar="N",
+    o.add_argument("--degree", type=integer("--degree"), default=2, metavar="N",
                    help=f"degree of --form polynomial, {bounds_text('--degree')} (default 2)")
     o.add_argument("--axis", choices=("auto", "x", "y"), default="auto",
                    help="the axis of --form cylinder (default auto)")
@@ -142,19 +142,19 @@ def add_parser(sub, formatter) -> None:
                    help="smoothness of eq 18 (default 0.5)")
     f.add_argument("--likelihood", choices=("blocks", "whittle"), default="blocks",
                    help="eq 18's likelihood (default blocks)")
-    f.add_argument("--block", type=int, default=24, metavar="B",
+    f.add_argument("--block", type=integer("--block"), default=24, metavar="B",
                    help=f"side of the fit's blocks in points, {bounds_text('--block')} "
                         f"(default 24)")
-    f.add_argument("--blocks", type=int, default=12, metavar="K",
+    f.add_argument("--blocks", type=integer("--blocks"), default=12, metavar="K",
                    help=f"blocks used by the fit, {bounds_text('--blocks')} (default 12)")
-    f.add_argument("--mixtures", type=int, default=5, metavar="Q",
+    f.add_argument("--mixtures", type=integer("--mixtures"), default=5, metavar="Q",
                    help=f"a profile's spectral-mixture components, "
                         f"{bounds_text('--mixtures')} (default 5)")
-    f.add_argument("--candidates", type=int, default=10, metavar="N",
+    f.add_argument("--candidates", type=integer("--candidates"), default=10, metavar="N",
                    help=f"a profile fit's initialisations, {bounds_text('--candidates')} "
                         f"(default 10)")
     c = b.add_argument_group("check and fill")
-    c.add_argument("--simulations", type=int, default=19, metavar="N",
+    c.add_argument("--simulations", type=integer("--simulations"), default=19, metavar="N",
                    help=f"check: simulations of the model, {bounds_text('--simulations')} "
                         f"(default 19)")
     c.add_argument("--plots", action="store_true",

@@ -5,12 +5,13 @@ map read. Argument handling only.
 
 from __future__ import annotations
 
+import argparse
 import dataclasses
 import math
 
 from roughgp.cli.output import UsageError
 
-__all__ = ["Bound", "BOUNDS", "bounds_text", "check_bounds", "check_block"]
+__all__ = ["Bound", "BOUNDS", "bounds_text", "check_bounds", "check_block", "integer"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -58,6 +59,30 @@ BOUNDS = {
 def bounds_text(option: str) -> str:
     """The range of ``option`` for its help: ``"4 to 32"``."""
     return BOUNDS[option].text()
+
+
+#: the most digits an integer option is read with (Python's int() refuses over 4300 with a
+#: message of its own limit; no option's range needs more than 10)
+MAX_DIGITS = 30
+
+
+def integer(option=None):
+    """The argparse type of an integer option: ``int(text)``, refused by its length beyond
+    :data:`MAX_DIGITS` digits, with the option's range (:data:`BOUNDS`) where it has one."""
+    def parse(text):
+        digits = text.strip().lstrip("+-")
+        if len(digits) > MAX_DIGITS and digits.isdigit():
+            bound = BOUNDS.get(option)
+            allowed = f"give one in [{bound.numbers(', ')}]" if bound else "give a smaller one"
+            raise argparse.ArgumentTypeError(f"an integer of {len(digits)} digits is out of "
+                                             f"range: {allowed}")
+        try:
+            return int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected an integer, got {text[:40]!r}") \
+                from None
+    parse.__name__ = "integer"  # argparse names the type in its messages
+    return parse
 
 
 def check_bounds(args) -> None:

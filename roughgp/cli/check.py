@@ -8,14 +8,16 @@ from __future__ import annotations
 import math
 import time
 
-from roughgp.cli.bounds import bounds_text
+from roughgp.cli.bounds import bounds_text, integer
 from roughgp.cli.options import (
     add_part_option,
     add_spurious_options,
     crop_to_part,
+    flagged_output,
     load_model,
     read_input,
     remove_spurious,
+    write_flagged,
 )
 from roughgp.cli.output import (
     UsageError,
@@ -25,6 +27,7 @@ from roughgp.cli.output import (
     print_wrapped,
     write_json,
 )
+from roughgp.cli.pace import Pace
 from roughgp.common.atomic import atomic_output
 
 __all__ = ['add_parser', 'run']
@@ -77,12 +80,12 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                        help="texture parameters of a measurement against a model's simulations")
     c.add_argument("model", metavar="MODEL.json", help="a model file of 'roughgp fit'")
     add_input_options(c, kind=False, what="the measurement the model was fitted to (or another)")
-    c.add_argument("--simulations", type=int, default=19, metavar="N",
+    c.add_argument("--simulations", type=integer("--simulations"), default=19, metavar="N",
                    help=f"simulations of the model, {bounds_text('--simulations')} (default "
                         f"19)")
-    c.add_argument("--seed", type=int, default=0, metavar="S",
+    c.add_argument("--seed", type=integer("--seed"), default=0, metavar="S",
                    help=f"seed of the simulations, {bounds_text('--seed')} (default 0)")
-    c.add_argument("--calibrate", type=int, metavar="B",
+    c.add_argument("--calibrate", type=integer("--calibrate"), metavar="B",
                    help=f"calibrate the check by B refitted bootstrap copies, "
                         f"{bounds_text('--calibrate')} (19 makes the level a whole count; "
                         f"default: the plain check)")
@@ -90,10 +93,10 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                    help="check the model on the part of FILE it was fitted on (fit --part, "
                         "a half) and on the other half, side by side")
     add_part_option(c)
-    c.add_argument("--predictive", type=int, metavar="B",
+    c.add_argument("--predictive", type=integer("--predictive"), metavar="B",
                    help=f"draw the simulations from B refits of bootstrap measurements of the "
                         f"model, {bounds_text('--predictive')} (default: the plug-in model)")
-    c.add_argument("--tiles", type=int, nargs=2, metavar=("M", "N"),
+    c.add_argument("--tiles", type=integer("--tiles"), nargs=2, metavar=("M", "N"),
                    help="rank each of M x N tiles' Sq, Sal, Str, Std among the same tile of "
                         "the simulations (tiles of at least 16 x 16 points)")
     c.add_argument("--plot", metavar="FIGURE", help="write the figure (.png, .pdf or .svg)")
@@ -172,9 +175,9 @@ def _predictive_models(model, args, start):
 
 def run(args) -> int:
     """``roughgp check MODEL FILE``."""
-    from roughgp.api import check
-    json_out, plot = check_outputs(("--json", args.json, "json"), ("--plot", args.plot, "plot"),
-                                   inputs=(args.file, args.model), force=args.force)
+    json_out, plot, flagged_out = check_outputs(
+        ("--json", args.json, "json"), ("--plot", args.plot, "plot"), flagged_output(args),
+        inputs=(("FILE", args.file), ("MODEL", args.model)), force=args.force)
     _refuse_combinations(args)
     model = load_model(args.model)
     heights = read_input(args)  # what the file holds: a 2-column profile is no 512 x 2 surface
@@ -199,7 +202,7 @@ def run(args) -> int:
         except ValueError as error:
             raise UsageError(f"--{error}") from None
     spacing_note = _spacing_note(heights, model)
-    z = remove_spurious(args, heights, model.cutoffs.get("form", "plane"))  # the model's F
+    z, found = remove_spurious(args, heights, model.cutoffs.get("form", "plane"))  # model's F
     start = time.perf_counter()
     models = None if args.predictive is None else _predictive_models(model, args, start)
     err(f"simulating {args.simulations} {model.kind}s of {' x '.join(map(str, z.shape))}"
@@ -207,14 +210,26 @@ def run(args) -> int:
     spacing = heights.spacing if model.kind == "surface" else (heights.spacing[-1],)
     draws = "predictive" if models is not None else "plug-in"
     if args.tiles:
-        return _tiles(args, model, z, spacing, models, start, json_out, plot, spacing_note)
-    if fitted_part is not None:
-        return _held_out(args, model, z, spacing, models, fitted_part, start, json_out, plot,
+        code = _tiles(args, model, z, spacing, models, start, json_out, plot, spacing_note)
+    elif fitted_part is not None:
+        code = _held_out(args, model, z, spacing, models, fitted_part, start, json_out, plot,
                          spacing_note)
+    else:
+        code = _whole(args, model, z, spacing, models, start, json_out, plot, spacing_note,
+                      part, draws)
+    write_flagged(flagged_out, found, args, heights)
+    return code
+
+
+def _whole(args, model, z, spacing, models, start, json_out, plot, spacing_note, part,
+           draws) -> int:
+    """``check MODEL FILE`` (plain or ``--calibrate``): one table of the whole map."""
+    from roughgp.api import check
     calibrated = None
     if args.calibrate is None:
         result = check(model, z, spacing, n_simulations=args.simulations, seed=args.seed,
-                       models=models)
+                       models=models, progress=Pace("simulations, each measured",
+                                                    "a smaller --simulations or --part"))
     else:
         calibrated = _calibrated(model, z, spacing, args, start)
         result = calibrated.check
@@ -362,7 +377,9 @@ def _calibrated(model, z, spacing, args, start):
             f"(--calibrate 9 or more removes that limit)")
     try:
         return check(model, z, spacing, n_simulations=args.simulations, seed=args.seed,
-                     calibrate=args.calibrate, progress=progress)
+                     calibrate=args.calibrate,
+                     progress=Pace("bootstrap copies, each refitted and checked",
+                                   "a smaller --calibrate, --simulations or --part", progress))
     except ValueError as error:  # a copy the refit refuses (too few points, say)
         raise UsageError(f"--calibrate: {error}") from None
 

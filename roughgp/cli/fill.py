@@ -10,8 +10,15 @@ from pathlib import Path
 
 import numpy as np
 
-from roughgp.cli.bounds import bounds_text, check_block
-from roughgp.cli.options import add_form_options, add_spurious_options, read_input, remove_spurious
+from roughgp.cli.bounds import bounds_text, check_block, integer
+from roughgp.cli.options import (
+    add_form_options,
+    add_spurious_options,
+    flagged_output,
+    read_input,
+    remove_spurious,
+    write_flagged,
+)
 from roughgp.cli.output import (
     UsageError,
     add_force_option,
@@ -73,17 +80,17 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                    help="skip the self-check on held-out measured points")
     f.add_argument("--method", choices=("local", "global"), default="local",
                    help="local (default): moving-window kriging; global: all points by CG")
-    f.add_argument("--samples", type=int, default=16, metavar="N",
+    f.add_argument("--samples", type=integer("--samples"), default=16, metavar="N",
                    help=f"--method global: pathwise draws for --sd, "
                         f"{bounds_text('--samples')} (default 16)")
-    f.add_argument("--seed", type=int, default=0, metavar="S",
+    f.add_argument("--seed", type=integer("--seed"), default=0, metavar="S",
                    help=f"seed of the blocks chosen for the fit and of the draws, "
                         f"{bounds_text('--seed')} (default 0)")
     add_force_option(f)
-    f.add_argument("--block", type=int, default=24, metavar="B",
+    f.add_argument("--block", type=integer("--block"), default=24, metavar="B",
                    help=f"side of the fit's blocks in points, {bounds_text('--block')} "
                         f"(default 24)")
-    f.add_argument("--blocks", type=int, default=12, metavar="K",
+    f.add_argument("--blocks", type=integer("--blocks"), default=12, metavar="K",
                    help=f"blocks used by the fit, {bounds_text('--blocks')} (default 12)")
     f.add_argument("--device", metavar="DEV",
                    help="--method global: run the FFTs and CG through torch on DEV (cpu, "
@@ -95,10 +102,10 @@ def run(args) -> int:
     """``roughgp fill FILE``: fill the unmeasured points of a surface with the GP posterior."""
     from roughgp.cli.options import load_model
     from roughgp.api import fill
-    out, sd_out, band_out = check_outputs(("--out", args.out, "heights"),
-                                          ("--sd", args.sd, "heights"),
-                                          ("--band", args.band, "heights"),
-                                          inputs=(args.file, args.model), force=args.force)
+    out, sd_out, band_out, flagged_out = check_outputs(
+        ("--out", args.out, "heights"), ("--sd", args.sd, "heights"),
+        ("--band", args.band, "heights"), flagged_output(args),
+        inputs=(("FILE", args.file), ("--model", args.model)), force=args.force)
     nu = args.nu if args.nu == "auto" else float(args.nu)
     if nu == "auto" and args.model:
         raise UsageError("--nu auto chooses the smoothness of a fit; --model has its own "
@@ -115,12 +122,13 @@ def run(args) -> int:
         err(f"note: {args.file}: {note}")
     if heights.kind != "surface":
         raise UsageError(f"{args.file} holds a profile; fill needs a surface z[iy, ix]")
-    (dy, dx), z = heights.spacing, remove_spurious(args, heights, None if args.form == "none"
-                                                   else args.form)
+    (dy, dx) = heights.spacing
     spacing = dx if dy == dx else (dy, dx)
-    if dy != dx and ".csv" in {f.suffix.lower() for f in (out, sd_out, band_out) if f}:
+    if dy != dx and ".csv" in {f.suffix.lower() for f in (out, sd_out, band_out, flagged_out)
+                               if f}:
         raise UsageError(f"the spacing differs along y and x ({dy:g}, {dx:g} um): a .csv "
                          f"stores one spacing; write .x3p or .npy")
+    z, found = remove_spurious(args, heights, None if args.form == "none" else args.form)
     missing = np.isnan(z)
     if not missing.any():
         raise UsageError(f"{args.file} has no missing (NaN) point: nothing to fill")
@@ -195,4 +203,5 @@ def run(args) -> int:
                       source=heights.meta, spread=True)
         err(f"wrote {band_out} (the 95 % band's half-width at the filled points: "
             f"{result.band_factor:.3g} predictive sd, {how}; 0 at measured ones)")
+    write_flagged(flagged_out, found, args, heights)
     return 0

@@ -10,18 +10,23 @@ import time
 
 import numpy as np
 
-from roughgp.cli.bounds import bounds_text, check_block
+from roughgp.cli.bounds import bounds_text, check_block, integer
+from roughgp.surface_models.schema import MAX_ANCHORS
 from roughgp.cli.options import (
     add_operator_options,
     add_part_option,
     add_spurious_options,
     check_cutoffs,
     crop_to_part,
+    flagged_output,
     operator_settings,
     read_input,
     remove_spurious,
+    write_flagged,
 )
-from roughgp.cli.output import UsageError, add_force_option, check_outputs, err, print_wrapped
+from roughgp.cli.output import (
+    UsageError, add_force_option, check_device, check_outputs, err, print_wrapped,
+)
 from roughgp.io.measurement import mean_profile
 from roughgp.io.writers import atomic_output
 
@@ -83,6 +88,12 @@ simulations are then Johnson-transformed GPs, roughgp.non_gaussian).
           for structured or periodic surfaces;
   psd     the measured PSD itself, smoothed (roughgp.surface_models.measured_psd): no
           parametric form, the bound of what any stationary Gaussian model can do on the file;
+  field   eq 18 whose variance, lengths and lay vary over the map
+          (roughgp.surface_models.field_model): eq 18 fitted on each of --anchors M N tiles
+          by the Whittle likelihood, pooled by random effects (a tile keeps its own value
+          only as far as its fit is sure of it; a gradient is kept where a test finds one),
+          interpolated between the tiles' centres; Gaussian heights; for a surface whose
+          roughness or lay changes across the part (not among auto's choices);
   auto    fits the four without 2 % of the measured points (held out in small discs),
           predicts those by kriging with each model's covariance, prints one line per model
           (held-out RMSE, seconds) and keeps the simplest within one standard error of the
@@ -103,7 +114,7 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     models = f.add_subparsers(dest="model", metavar="MODEL", required=True,
                               title="models (roughgp fit MODEL --help for each)")
     shared = argparse.ArgumentParser(add_help=False)
-    shared.add_argument("--seed", type=int, default=0, metavar="S",
+    shared.add_argument("--seed", type=integer("--seed"), default=0, metavar="S",
                         help=f"seed of the fit's initialisations or blocks, "
                              f"{bounds_text('--seed')} (default 0)")
     shared.add_argument("--non-gaussian", action="store_true",
@@ -115,10 +126,10 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                           help="eq 21 spectral mixture of a profile (section 3.3)")
     add_input_options(p)
     add_operator_options(p, s_default="none", l_default="none")
-    p.add_argument("--mixtures", type=int, default=5, metavar="Q",
+    p.add_argument("--mixtures", type=integer("--mixtures"), default=5, metavar="Q",
                    help=f"spectral-mixture components, {bounds_text('--mixtures')} (default "
                         f"5, the paper's)")
-    p.add_argument("--candidates", type=int, default=10, metavar="N",
+    p.add_argument("--candidates", type=integer("--candidates"), default=10, metavar="N",
                    help=f"initialisations scored, {bounds_text('--candidates')} (default 10)")
     p.add_argument("--profile-axis", choices=("x", "y"), default="x",
                    help="for a surface: the direction of the mean profile (default x)")
@@ -135,7 +146,8 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     g.add_argument("--nu", type=float, choices=(0.5, 1.5, 2.5), default=0.5,
                    help="smoothness: 0.5 is eq 18 (default); 1.5 or 2.5 its anisotropy with a "
                         "smoother Matern profile, for smooth surfaces (beyond the paper)")
-    g.add_argument("--model", dest="rung", choices=("eq18", "matern", "sm", "psd", "auto"),
+    g.add_argument("--model", dest="rung",
+                   choices=("eq18", "matern", "sm", "psd", "field", "auto"),
                    default="eq18", help="the model: eq18 (default), matern, sm (a 2-D spectral "
                    "mixture of up to 4 components, Q by BIC, for lays and periods), psd (the "
                    "measured PSD) or auto (chosen by a held-out score; see above)")
@@ -147,10 +159,16 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                         "random blocks of --block x --block points) or whittle (the debiased "
                         "spatial Whittle likelihood of every measured point: its precision "
                         "grows with the map)")
-    g.add_argument("--block", type=int, default=24, metavar="B",
+    g.add_argument("--anchors", type=integer("--anchors"), nargs=2, default=None, metavar=("M", "N"),
+                   help="--model field: the fields' anchors, the centres of M x N tiles of "
+                        "at least 16 x 16 points, M and N in [1, 32] (default 4 4)")
+    g.add_argument("--device", metavar="DEV",
+                   help="--likelihood whittle or --model field: compute the Whittle fits' "
+                        "FFTs and gradients through torch on DEV (cpu, cuda, cuda:N)")
+    g.add_argument("--block", type=integer("--block"), default=24, metavar="B",
                    help=f"side of the fit's blocks in points, {bounds_text('--block')} "
                         f"(default 24)")
-    g.add_argument("--blocks", type=int, default=12, metavar="K",
+    g.add_argument("--blocks", type=integer("--blocks"), default=12, metavar="K",
                    help=f"blocks used by the fit, {bounds_text('--blocks')} (default 12)")
     add_force_option(g)
     g.set_defaults(func=run)
@@ -160,8 +178,10 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
 
 def run(args) -> int:
     """``roughgp fit MODEL FILE``."""
+    _check_fit_device(args)
     operators = operator_settings(args)
-    (out,) = check_outputs(("--out", args.out, "json"), inputs=(args.file,), force=args.force)
+    out, flagged_out = check_outputs(("--out", args.out, "json"), flagged_output(args),
+                                     inputs=(("FILE", args.file),), force=args.force)
     heights = read_input(args, getattr(args, "kind", "surface"))
     full_shape = heights.z.shape
     heights, part = crop_to_part(args, heights)
@@ -176,15 +196,45 @@ def run(args) -> int:
             f"columns {part.cols[0]}:{part.cols[1]} of {full_shape[0]} x {full_shape[1]}")
     start = time.perf_counter()
     if args.model == "profile":
-        model = _fit_profile(args, heights, operators, data)
+        model, found = _fit_profile(args, heights, operators, data), None
     else:
-        model = _fit_ground(args, heights, operators, data)
+        model, found = _fit_ground(args, heights, operators, data)
     err(f"({time.perf_counter() - start:.1f} s)")
     if out is not None:
         with atomic_output(out) as partial:  # whole or not at all; missing folders made
             model.save(partial)
         err(f"wrote {out} (roughgp model file; roughgp simulate --from {out.name} ...)")
+    write_flagged(flagged_out, found, args, heights)
     return 0
+
+
+def _check_fit_device(args) -> None:
+    """``--device`` is for eq 18's Whittle fit alone (the block fit and the other rungs have no
+    device path): refused elsewhere, and a device this machine lacks refused, before any
+    work."""
+    device = getattr(args, "device", None)
+    anchors = getattr(args, "anchors", None)
+    if anchors is not None:
+        if args.rung != "field":
+            raise UsageError(f"--anchors applies to --model field only (got --model "
+                             f"{args.rung})")
+        if not all(1 <= a <= MAX_ANCHORS for a in anchors):
+            raise UsageError(f"--anchors must be two integers in [1, {MAX_ANCHORS}], got "
+                             f"{anchors[0]} {anchors[1]}")
+    if getattr(args, "rung", None) == "field":
+        marginal = _marginal_choice(args)
+        if marginal != "gaussian" or args.nu != 0.5:
+            raise UsageError(f"--model field draws Gaussian heights with eq 18's profile: leave "
+                             f"out --marginal {marginal} / --non-gaussian and --nu "
+                             f"{args.nu:g}")
+    if device is None:
+        return
+    if args.rung == "field" or (args.rung == "eq18" and args.likelihood == "whittle"):
+        check_device(device)
+        return
+    raise UsageError(f"--device applies to --model eq18 with --likelihood whittle and to "
+                     f"--model field only (got --model {args.rung}, --likelihood "
+                     f"{args.likelihood}); leave --device out or add --likelihood whittle")
 
 
 def _fit_profile(args, heights, operators, data):
@@ -272,6 +322,36 @@ def _fit_rungs(args, heights, operators, data, z):
     return model
 
 
+def _fit_field(args, heights, operators, data, z):
+    """``fit ground --model field``: eq 18 per tile, pooled (roughgp.surface_models.field_model)."""
+    from roughgp.inference.tile_fit import PARAMETERS
+    from roughgp.surface_models.field_model import fit_field_model
+    tiles = tuple(args.anchors or (4, 4))
+    try:
+        fitted = fit_field_model(z, heights.spacing, **operators, tiles=tiles, seed=args.seed,
+                                 data=data, device=args.device)
+    except ValueError as exc:
+        raise UsageError(f"{args.file}: {exc}") from None
+    model = fitted.model
+    print(f"fitted to {args.file}: {model.describe()}")
+    print_wrapped(f"operators: {'; '.join(model.operators)} (the model describes the heights "
+                  f"after the F-operator; the filters are applied to its simulations)")
+    print(f"  {'parameter':<13} {'population':>11} {'spread tau':>11} {'p same':>8} "
+          f"{'p gradient':>11}  kept")
+    for name in PARAMETERS:
+        p = fitted.pooled_of(name)
+        kept = ("the tiles' median" if name == "log noise" else
+                "a gradient" if p.slope != (0.0, 0.0) else
+                "tile values" if p.tau > 0 else "one value")
+        trend = "-" if math.isnan(p.p_trend) else f"{p.p_trend:.3g}"
+        print(f"  {name:<13} {p.mean:>11.4g} {p.tau:>11.3g} {p.p_homogeneity:>8.3g} "
+              f"{trend:>11}  {kept}")
+    print_wrapped("(log scale but for the angle, in radians; p same: the test that all tiles "
+                  "share one value; p gradient: that a plane in position does better, kept "
+                  "below 0.01)")
+    return model
+
+
 def _print_mixture(model):
     """The 2-D spectral mixture's components, one line each, and the BIC of each Q tried."""
     hp = model.hyperparameters
@@ -295,20 +375,22 @@ def _fit_ground(args, heights, operators, data):
     if heights.kind != "surface":
         raise UsageError(f"{args.file} holds a profile; fit ground needs a surface z[iy, ix] "
                          f"(fit a profile with: roughgp fit profile)")
-    z = remove_spurious(args, heights, operators["form"])
+    z, found = remove_spurious(args, heights, operators["form"])
     check_block(args.file, args.block, z.shape)
     missing = np.isnan(z)
     err(f"{args.file}: {z.shape[0]} x {z.shape[1]} points, spacing "
         f"{heights.spacing[0]:g} x {heights.spacing[1]:g} um ({heights.spacing_source}), "
         f"{missing.sum()} missing ({missing.mean():.1%}); fitting "
         + ("eq 18 plus noise ..." if args.rung == "eq18" else f"--model {args.rung} ..."))
+    if args.rung == "field":
+        return _fit_field(args, heights, operators, data, z)
     if args.rung != "eq18":
-        return _fit_rungs(args, heights, operators, data, z)
+        return _fit_rungs(args, heights, operators, data, z), found
     try:
         result = fit_surface_model(z, heights.spacing, **operators, block=args.block,
                                    n_blocks=args.blocks, seed=args.seed, nu=args.nu,
                                    marginal=_marginal_choice(args), data=data,
-                                   likelihood=args.likelihood)
+                                   likelihood=args.likelihood, device=args.device)
     except ValueError as exc:
         raise UsageError(f"{args.file}: {exc}") from None
     model, fit = result.model, result.block_fit
@@ -334,7 +416,7 @@ def _fit_ground(args, heights, operators, data):
     for note in result.range_notes:
         print_wrapped(f"note: {note}")
     _print_marginal(model)
-    return model
+    return model, found
 
 
 def _print_marginal(model):

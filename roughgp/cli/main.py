@@ -8,15 +8,19 @@ Gaussian processes" (Surf. Topogr.: Metrol. Prop.). Sub-commands, one module eac
 
 Units: heights and lengths (spacing, lengthscales, feed, periods) are in micrometres (um).
 Exit codes: 0 success, 1 a claim regressed (``reproduce``), 2 a usage or input error (a
-message, never a traceback), 141 (quietly) when the reader of a pipe has gone
-(``roughgp texture F | head``). :func:`main` is the entry point (``main(argv) -> int``); it never
-raises ``SystemExit``.
+message, never a traceback), 130 interrupted (SIGINT), 143 terminated (SIGTERM, what
+``timeout`` and ``kill`` send: cleaned up as an interrupt, no partial file left), 141
+(quietly) when the reader of a pipe has gone (``roughgp texture F | head``). :func:`main` is
+the entry point (``main(argv) -> int``); it never raises ``SystemExit``.
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
+import signal
 import sys
+import threading
 import warnings
 
 from roughgp.cli.bounds import check_bounds
@@ -53,7 +57,7 @@ def main(argv=None) -> int:
             warnings.showwarning = show_warning
             if args.command not in _QUICK_COMMANDS:
                 import scipy.linalg  # noqa: F401  (loaded now, so its BLAS is limited below)
-            with one_blas_thread():  # small linear algebra: see roughgp.common.threads
+            with one_blas_thread(), _terminate_as_interrupt():  # see roughgp.common.threads
                 code = args.func(args)
             sys.stdout.flush()  # a closed pipe shows here, not in the interpreter's exit
             return code
@@ -74,9 +78,35 @@ def main(argv=None) -> int:
     except MemoryError:  # a safety net: sizes are budgeted before the large arrays
         err(f"{name}: error: out of memory: use a smaller input or size")
         return 2
+    except Terminated:
+        err(f"{name}: terminated")
+        return 143  # 128 + SIGTERM
     except KeyboardInterrupt:
         err(f"{name}: interrupted")
         return 130
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised where the command is, so that it unwinds as an interrupt does: every
+    file being written is removed (:func:`roughgp.common.atomic.atomic_output`)."""
+
+
+def _raise_terminated(signum, frame):
+    raise Terminated()
+
+
+@contextlib.contextmanager
+def _terminate_as_interrupt():
+    """SIGTERM raises :class:`Terminated` while the command runs (in the main thread; the
+    previous handler restored after)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGTERM, _raise_terminated)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 #: commands that load no SciPy BLAS of their own first (each saves its 0.2 s import)

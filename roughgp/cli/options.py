@@ -11,14 +11,14 @@ import secrets
 
 import numpy as np
 
-from roughgp.cli.bounds import bounds_text
+from roughgp.cli.bounds import bounds_text, integer
 from roughgp.cli.output import UsageError, err
 from roughgp.common.checks import check_scale
 
 __all__ = ["add_part_option", "crop_to_part", "cutoff", "add_form_options",
            "add_operator_options", "operator_settings", "check_cutoffs", "load_model",
            "check_scales", "seed_or_fresh", "read_input", "Given", "add_l_kind_options",
-           "add_spurious_options", "remove_spurious"]
+           "add_spurious_options", "flagged_output", "remove_spurious", "write_flagged"]
 
 
 def seed_or_fresh(seed):
@@ -62,7 +62,7 @@ def add_form_options(parser, what="F-operator") -> None:
     parser.add_argument("--form", choices=("plane", "polynomial", "cylinder", "none"),
                         default="plane", action=Given,
                         help=f"{what} (default plane: a line for a profile)")
-    parser.add_argument("--degree", type=int, default=2, metavar="N", action=Given,
+    parser.add_argument("--degree", type=integer("--degree"), default=2, metavar="N", action=Given,
                         help=f"degree of --form polynomial, {bounds_text('--degree')} "
                              f"(default 2)")
     parser.add_argument("--axis", choices=("auto", "x", "y"), default="auto", action=Given,
@@ -199,20 +199,24 @@ def add_spurious_options(parser) -> None:
                              "not; .npy, .csv or .x3p)")
 
 
+def flagged_output(args) -> tuple:
+    """The ``--flagged`` output, ``(option, path text or None, kind)``, for the command's one
+    :func:`roughgp.cli.output.check_outputs` call (checked with its other outputs, against
+    every input, before any work); a usage error for --flagged without --spurious."""
+    flagged = getattr(args, "flagged", None)
+    if flagged and not args.spurious:
+        raise UsageError("--flagged writes the points --spurious flags: give --spurious too")
+    return ("--flagged", flagged, "heights")
+
+
 def remove_spurious(args, heights, form="plane"):
     """With --spurious: the heights of ``heights`` (a Measurement) with the spurious points set
     to NaN (:func:`roughgp.filling.spurious.detect_spurious`, after the F-operator
-    ``form``), the summary printed and the map written to --flagged (checked first); else the
-    heights as read."""
-    from roughgp.cli.output import check_outputs, err
-    if args.flagged and not args.spurious:
-        raise UsageError("--flagged writes the points --spurious flags: give --spurious too")
+    ``form``) and the detection (for :func:`write_flagged`, once every other check has
+    passed), the summary printed; else the heights as read and None."""
     if not args.spurious:
-        return heights.z
+        return heights.z, None
     from roughgp.filling.spurious import detect_spurious
-    from roughgp.io.writers import write_heights
-    flagged_path = check_outputs(("--flagged", args.flagged, "heights"), inputs=(args.file,),
-                                 force=getattr(args, "force", False))[0]
     if heights.z.ndim != 2:
         raise UsageError(f"--spurious: {args.file} holds a profile; the detection works on "
                          f"surfaces z[iy, ix]")
@@ -225,11 +229,19 @@ def remove_spurious(args, heights, form="plane"):
     rounds = (f"{found.rounds} rounds" if found.converged else
               f"stopped at the cap of {found.rounds} rounds, the flagged set still growing")
     err(f"--spurious: {found.summary()}; {removed} ({rounds}, {found.seconds:.1f} s)")
-    if flagged_path is not None:
-        dy, dx = heights.spacing
-        write_heights(flagged_path, found.flagged.astype(np.float64),
-                      dx if dy == dx else (dy, dx),
-                      f"roughgp --spurious {args.file}: 1 where a measured point was flagged "
-                      f"spurious (|GP leave-one-out score| > {found.threshold:.3g}), 0 elsewhere")
-        err(f"wrote {flagged_path} (the map of the {found.count} flagged points)")
-    return np.where(found.flagged, np.nan, heights.z)
+    return np.where(found.flagged, np.nan, heights.z), found
+
+
+def write_flagged(path, found, args, heights) -> None:
+    """Write the map of the points ``found`` flagged (:func:`remove_spurious`) to ``path``
+    (checked by :func:`flagged_output`), with the command's other outputs: after every check
+    and computation, so that a refusal leaves no file behind. Nothing when ``path`` is
+    None."""
+    if path is None or found is None:
+        return
+    from roughgp.io.writers import write_heights
+    dy, dx = heights.spacing
+    write_heights(path, found.flagged.astype(np.float64), dx if dy == dx else (dy, dx),
+                  f"roughgp --spurious {args.file}: 1 where a measured point was flagged "
+                  f"spurious (|GP leave-one-out score| > {found.threshold:.3g}), 0 elsewhere")
+    err(f"wrote {path} (the map of the {found.count} flagged points)")

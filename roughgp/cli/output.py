@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from roughgp.common.atomic import atomic_output
+from roughgp.common.atomic import atomic_output, longest_name
 from roughgp.io.writers import check_write_format
 
 __all__ = ["UsageError", "WIDTH", "err", "show_warning", "wrap", "print_wrapped", "table",
@@ -28,24 +28,51 @@ class UsageError(Exception):
 
 
 _NUMPY_REPR = re.compile(r"\bnp\.(?:float|int|uint|complex)\d*\(([^()]*)\)|\bnp\.(True|False)_")
-#: The library's advice of its own keyword arguments, and what a shell user can do instead.
-_LIBRARY_ADVICE = re.compile(r"\s*Use approximate=True to clip .*?method='cholesky'\.")
+
+
+def _sampler_advice(args, message) -> str:
+    if getattr(args, "method", None) is not None and getattr(args, "kind", None) in (
+            "ground", "honed"):
+        lengths = " (--lambda-a, --lambda-b)" if args.kind == "ground" else ""
+        return (f" Give a smaller --shape, shorter correlation lengths{lengths}, or --method "
+                "cholesky on a grid of a few thousand points.")
+    return " Give a smaller --shape (or a model with shorter correlation lengths)."
+
+
+def _plane_advice(args, message) -> str:
+    ways = (["--form none (no F-operator)"] if hasattr(args, "form") else []) + (
+        ["--kind profile (a one-row map read as a profile)"]
+        if getattr(args, "kind", None) in ("auto", "surface", "profile") else [])
+    return ("; give " + " or ".join(ways)) if ways else \
+        ": give a map with at least 2 measured rows and columns"
+
+
+def _block_advice(args, message) -> str:
+    if message.startswith("--spurious") or not hasattr(args, "block"):
+        return ("; --spurious fits the GP on such blocks: crop the map to a part with fewer "
+                "holes, or leave out --spurious")
+    return "; give a smaller --block (at least 4)"
+
+
+#: The library's advice of its own keyword arguments, and what a shell user can do instead:
+#: (pattern, advice of the command ``args`` ran and the message).
+_LIBRARY_ADVICE = (
+    (re.compile(r"\s*Use approximate=True to clip .*?method='cholesky'\."), _sampler_advice),
+    (re.compile(r"; use order=0 or level rows / columns as profiles"), _plane_advice),
+    (re.compile(r"; use a smaller block or a lower min_valid"), _block_advice),
+)
 
 
 def shell_message(message: str, args=None) -> str:
     """A library error's message for a shell user: numpy scalar reprs (``np.float64(1.0)``)
     as plain numbers, and advice of keyword arguments (``approximate=True``,
-    ``method='cholesky'``) replaced by the options of the command ``args`` ran."""
+    ``method='cholesky'``, ``order=0``, ``min_valid``) replaced by the options of the command
+    ``args`` ran (never one it does not have)."""
     message = _NUMPY_REPR.sub(lambda m: m.group(1) if m.group(1) is not None else m.group(2),
                               message)
-    if _LIBRARY_ADVICE.search(message):
-        if getattr(args, "method", None) is not None and getattr(args, "kind", None) in (
-                "ground", "honed"):
-            advice = (" Give a smaller --shape, shorter correlation lengths, or --method "
-                      "cholesky on a grid of a few thousand points.")
-        else:
-            advice = " Give a smaller --shape (or a model with shorter correlation lengths)."
-        message = _LIBRARY_ADVICE.sub(advice, message)
+    for pattern, advice in _LIBRARY_ADVICE:
+        if pattern.search(message):
+            message = pattern.sub(lambda m: advice(args, message), message)
     return message
 
 
@@ -59,8 +86,13 @@ def rename_parameters(message: str, names: dict) -> str:
 
 
 def err(message: str) -> None:
-    """Print ``message`` on stderr (progress, notes, warnings: stdout keeps the results)."""
-    print(message, file=sys.stderr, flush=True)
+    """Print ``message`` on stderr (progress, notes, warnings: stdout keeps the results); the
+    bytes of a file name that is not UTF-8 as ``\\xNN`` where the stream is strict."""
+    try:
+        print(message, file=sys.stderr, flush=True)
+    except UnicodeEncodeError:
+        print(message.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace"),
+              file=sys.stderr, flush=True)
 
 
 def show_warning(message, category, filename, lineno, file=None, line=None) -> None:
@@ -136,7 +168,13 @@ def _same_file(a: Path, b: Path) -> bool:
 
 def _check_writable(path: Path, option: str) -> None:
     """A usage error unless ``path`` can be written: its folder (or the nearest existing one
-    above it, where it is made) is a writable directory."""
+    above it, where it is made) is a writable directory, and its name leaves room for the
+    temporary name it is written through (:func:`roughgp.common.atomic.longest_name`)."""
+    size, most = len(os.fsencode(path.name)), longest_name(path)
+    if size > most:
+        raise UsageError(f"{option}: the file name is {size} bytes long; roughgp writes it "
+                         f"through a longer temporary name, so give a name of at most {most} "
+                         f"bytes")
     if path.exists():
         if not path.is_file():
             raise UsageError(f"{option}: {path} exists and is not a file")
@@ -159,14 +197,17 @@ PLOT_FORMATS = (".png", ".pdf", ".svg")
 def check_outputs(*outputs, inputs=(), force=False) -> list:
     """The output-path rule of every command, applied before it computes anything.
 
-    ``outputs``: ``(option, path text or None, kind)``, where ``kind`` is ``"heights"`` (a
+    ``outputs``: ``(option, path text or None, kind)`` (every file the command writes, in
+    one call, so that each is checked against every other), where ``kind`` is ``"heights"`` (a
     format of :data:`roughgp.io.writers.WRITE_FORMATS`, by the extension) or
     ``"json"`` (the extension must be ``.json``) or ``"plot"`` (:data:`PLOT_FORMATS`).
 
     The rule: the file written is the file named, letter for letter (the writers add no
     extension: ``--out H.NPY`` writes ``H.NPY``), so the checks below look at the file that
     will be written. A usage error naming the option refuses an output that is one of
-    ``inputs`` (never written over, even with ``--force``), two options naming one file, an
+    ``inputs`` (``(option, path text or None)`` pairs, e.g. ``("FILE", args.file)``, or bare
+    path texts; never written over, even with ``--force``; the message names both), two
+    options naming one file, an
     existing file without ``force`` (``--force``), and a place that cannot be written: the
     nearest existing folder above the file must be a writable directory. Missing folders
     are made when the file is written, by every command alike. Each file is then written
@@ -191,10 +232,11 @@ def check_outputs(*outputs, inputs=(), force=False) -> list:
                                  f"{', '.join(PLOT_FORMATS)}: got {text!r}")
         else:
             path = check_output(text, option)
-        for source in (s for s in inputs if s is not None):
+        for name, source in _named(inputs):
             if _same_file(path, Path(source)):
-                raise UsageError(f"{option}: {path} is the input file; roughgp never writes "
-                                 "over its input: give another file name")
+                raise UsageError(f"{option}: {path} is the input file ({name}); roughgp never "
+                                 f"writes over its input, even with --force: give {option} "
+                                 "another file name")
         for other, earlier in given:
             if _same_file(path, earlier):
                 raise UsageError(f"{option} and {other} name the same file {path}: give two "
@@ -206,6 +248,15 @@ def check_outputs(*outputs, inputs=(), force=False) -> list:
         given.append((option, path))
         paths.append(path)
     return paths
+
+
+def _named(inputs):
+    """``(option, path text)`` of each input given: ``inputs`` holds pairs or bare texts (named
+    ``the input``)."""
+    for item in inputs:
+        name, source = item if isinstance(item, tuple) else ("the input", item)
+        if source is not None:
+            yield name, source
 
 
 def add_force_option(parser) -> None:

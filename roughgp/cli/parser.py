@@ -7,7 +7,7 @@ from __future__ import annotations
 import argparse
 
 from roughgp.cli import batch, check, fill, fit, reproduce, simulate, texture
-from roughgp.cli.bounds import bounds_text
+from roughgp.cli.bounds import bounds_text, integer
 from roughgp.cli.output import WIDTH
 from roughgp.io.measurement import READ_FORMATS
 
@@ -70,7 +70,7 @@ def add_input_options(parser, *, kind=True,
     if kind:
         parser.add_argument("--kind", choices=("auto", "profile", "surface"), default="auto",
                             help="read a text table as a profile or a surface (default: auto)")
-    parser.add_argument("--channel", type=int, default=0, metavar="K",
+    parser.add_argument("--channel", type=integer("--channel"), default=0, metavar="K",
                         help=f"the data channel of an instrument file with several, "
                              f"{bounds_text('--channel')} (default 0)")
     parser.add_argument("--unit", choices=("m", "mm", "um", "nm"), metavar="U",

@@ -104,7 +104,9 @@ def run(args) -> int:
         else:
             run_file = stored.save(outcomes, out, full=full)
             written = f"{out / 'ledger.md'}, {out / 'ledger.json'}, {run_file}"
-        err(f"wrote {written} and the figures in {out / 'figures'}")
+        figures = sum(o.figure is not None for o in outcomes)
+        err(f"wrote {written}" + (f" and {figures} figure(s) in {out / 'figures'}" if figures
+                                  else " (these checks draw no figure)"))
     differing = _compare_setups(args, outcomes, reused, full, out) if args.setups else []
     if regressed:
         err(f"REGRESSED (the verdict must be revisited): {', '.join(regressed)}")

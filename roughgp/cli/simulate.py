@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from roughgp.cli.bounds import bounds_text
+from roughgp.cli.bounds import bounds_text, integer
 from roughgp.cli.options import check_scales, seed_or_fresh
 from roughgp.cli.output import (
     UsageError,
@@ -102,9 +102,9 @@ def add_parser(sub, formatter) -> None:
                        help="draw a ground, honed or turned surface to .npy/.csv/.x3p")
     p.add_argument("--from", dest="model", metavar="MODEL.json",
                    help="draw from a model file of 'roughgp fit' (give no KIND)")
-    p.add_argument("--shape", nargs=2, type=int, metavar=("NY", "NX"),
+    p.add_argument("--shape", nargs=2, type=integer("--shape"), metavar=("NY", "NX"),
                    help="with --from: points along y and x (a profile model: 1 N)")
-    p.add_argument("--seed", type=int, metavar="S",
+    p.add_argument("--seed", type=integer("--seed"), metavar="S",
                    help=f"with --from: random seed, {bounds_text('--seed')} (default: a fresh "
                         f"one, printed)")
     p.add_argument("--out", metavar="FILE", help="with --from: the output file")
@@ -119,9 +119,9 @@ def add_parser(sub, formatter) -> None:
     kinds = p.add_subparsers(dest="kind", metavar="KIND", required=False,
                              title="kinds (roughgp simulate KIND --help for each)")
     common = argparse.ArgumentParser(add_help=False)
-    common.add_argument("--shape", nargs=2, type=int, metavar=("NY", "NX"),
+    common.add_argument("--shape", nargs=2, type=integer("--shape"), metavar=("NY", "NX"),
                         help=f"points along y and x (at most {MAX_SIMULATE_POINTS} in all)")
-    common.add_argument("--seed", type=int, metavar="S",
+    common.add_argument("--seed", type=integer("--seed"), metavar="S",
                         help=f"random seed, {bounds_text('--seed')} (default: a fresh one, "
                              f"printed)")
     common.add_argument("--out", required=True, metavar="FILE",
@@ -172,7 +172,7 @@ def add_parser(sub, formatter) -> None:
 
     t = kinds.add_parser("turned", parents=[common], formatter_class=formatter,
                          description=_TURNED, help="synthetic turned surface or profile")
-    t.add_argument("--profile", type=int, metavar="N",
+    t.add_argument("--profile", type=integer("--profile"), metavar="N",
                    help="draw a profile of N points instead of a surface")
     t.add_argument("--feed", type=float, metavar="F", help="feed per revolution, um (250)")
     t.add_argument("--nose-radius", type=float, metavar="R", help="tool nose radius, um (800)")
@@ -315,7 +315,8 @@ def _run_model(args) -> int:
     if args.out is None:
         raise UsageError("--out FILE is required (the simulated surface: "
                          + ", ".join(WRITE_FORMATS) + ")")
-    out, = check_outputs(("--out", args.out, "heights"), inputs=(args.model,), force=args.force)
+    out, = check_outputs(("--out", args.out, "heights"), inputs=(("--from", args.model),),
+                         force=args.force)
     model = load_model(args.model, "--from")
     shape = _check_shape(args)
     if model.kind == "profile":

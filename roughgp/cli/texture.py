@@ -9,9 +9,11 @@ from roughgp.cli.options import (
     add_operator_options,
     add_spurious_options,
     check_cutoffs,
+    flagged_output,
     operator_settings,
     read_input,
     remove_spurious,
+    write_flagged,
 )
 from roughgp.cli.output import UsageError, add_force_option, check_outputs, print_wrapped, write_json
 
@@ -68,13 +70,17 @@ def run(args) -> int:
     operators = operator_settings(args)
     if args.unfiltered and args.l_kind != "gaussian":
         raise UsageError(f"--{args.l_kind} chooses the L-filter; --unfiltered applies none")
-    check_outputs(("--json", args.json, "json"), inputs=(args.file,), force=args.force)
+    json_out, flagged_out = check_outputs(("--json", args.json, "json"), flagged_output(args),
+                                          inputs=(("FILE", args.file),), force=args.force)
     heights = read_input(args, args.kind)
     if not args.unfiltered:
         check_cutoffs(operators, heights.z.shape, heights.spacing)
-    z = remove_spurious(args, heights, operators["form"])
-    report = texture(z, heights.spacing, **operators, filtered=not args.unfiltered,
-                     l_kind=args.l_kind)
+    z, found = remove_spurious(args, heights, operators["form"])
+    try:
+        report = texture(z, heights.spacing, **operators, filtered=not args.unfiltered,
+                         l_kind=args.l_kind)
+    except ValueError as exc:
+        raise UsageError(f"{args.file}: {exc}") from None
     shape = " x ".join(map(str, heights.z.shape))
     spacing = ", ".join(f"{d:g}" for d in heights.spacing)
     print(f"{report.standard} of {args.file}")
@@ -98,4 +104,5 @@ def run(args) -> int:
                                "notes": [*heights.notes, *report.notes],
                                "parameters": report.parameters,
                                "units": {k: unit_of(k) for k in report.parameters}})
+    write_flagged(flagged_out, found, args, heights)
     return 0

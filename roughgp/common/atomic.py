@@ -11,7 +11,28 @@ import os
 import secrets
 from pathlib import Path
 
-__all__ = ["atomic_output"]
+__all__ = ["atomic_output", "partial_path", "longest_name"]
+
+
+def partial_path(path) -> Path:
+    """The temporary file :func:`atomic_output` writes ``path`` through: a hidden name in the
+    same folder, ``.NAME.<8 hex>.partial`` plus ``path``'s extension."""
+    path = Path(path)
+    return path.parent / f".{path.name}.{secrets.token_hex(4)}.partial{path.suffix}"
+
+
+def longest_name(path) -> int:
+    """The longest name (bytes) :func:`atomic_output` can give ``path``: the file system's
+    limit (255 where it says none) less what the temporary name adds."""
+    folder = Path(path).parent
+    while not folder.exists() and folder != folder.parent:
+        folder = folder.parent
+    try:
+        limit = os.pathconf(folder, "PC_NAME_MAX")
+    except (OSError, ValueError, AttributeError):
+        limit = 255
+    added = len(os.fsencode(partial_path(path).name)) - len(os.fsencode(Path(path).name))
+    return limit - added
 
 
 @contextlib.contextmanager
@@ -24,7 +45,7 @@ def atomic_output(path):
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    partial = path.parent / f".{path.name}.{secrets.token_hex(4)}.partial{path.suffix}"
+    partial = partial_path(path)
     try:
         yield partial
         os.replace(partial, path)

@@ -104,6 +104,35 @@ def check_scale(name: str, value, *, zero: bool = False) -> float:
     return number
 
 
+#: heights whose variance is at most this share of the raw heights' mean square are constant:
+#: what is left is the rounding of the operators (a constant map's plane removal leaves 1e-34)
+CONSTANT_SHARE = 1e-24
+
+
+def constant_variance(heights, raw=None) -> float | None:
+    """The variance of the finite ``heights`` when they are constant: at most
+    :data:`CONSTANT_SHARE` times the mean square of ``raw`` (the heights before the operators;
+    default ``heights``), what the operators' rounding leaves of a constant (or, after a form
+    removal, planar) map; None when they vary."""
+    values = np.asarray(heights, dtype=np.float64)
+    values = values[np.isfinite(values)]
+    reference = values if raw is None else np.asarray(raw, dtype=np.float64)
+    scale = float(np.mean(np.square(reference[np.isfinite(reference)]))) \
+        if np.isfinite(reference).any() else 0.0
+    variance = float(np.var(values)) if values.size else 0.0
+    return variance if not variance > CONSTANT_SHARE * scale or not variance > 0 else None
+
+
+def check_varies(what: str, heights, raw=None) -> None:
+    """Raise unless the finite ``heights`` vary (:func:`constant_variance`), so a constant map
+    is refused by name rather than give a model of variance 1e-34."""
+    variance = constant_variance(heights, raw)
+    if variance is not None:
+        raise ValueError(f"{what} are constant (variance {variance:.3g} um^2, no more than "
+                         f"the rounding of the operators): a flat map has no texture to "
+                         f"measure or model; give a map whose heights vary")
+
+
 def check_integer(name: str, value, minimum: int, maximum: int | None = None) -> int:
     """``value`` as an int; raise unless it is an integer (not a bool) >= ``minimum`` (and
     <= ``maximum`` when given: the message then states the allowed range)."""

@@ -105,7 +105,7 @@ import scipy.linalg
 import scipy.ndimage
 from scipy.stats import norm
 
-from roughgp.common.checks import check_integer, check_positive, surface_array
+from roughgp.common.checks import check_integer, check_positive, check_varies, surface_array
 from roughgp.common.grid import normalize
 from roughgp.common.threads import one_blas_thread
 from roughgp.filling.local_fill import lag_table
@@ -303,6 +303,7 @@ def detect_spurious(z, *, spacing=1.0, form="plane", degree=2, axis="auto",
         raise ValueError(f"floor must be True or False, got {floor!r}")
     _, sp = normalize(z.shape, spacing)
     residual = remove_form(z, sp, form, degree=degree, axis=axis)[0]
+    check_varies("the heights after the F-operator", residual, z)
     measured = np.isfinite(residual)
     least = noise_floor(residual) if floor else 0.0
     excluded = np.zeros(z.shape, bool)  # the points left out of the fit: they only grow

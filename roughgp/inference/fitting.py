@@ -27,7 +27,7 @@ import math
 import numpy as np
 from scipy import optimize
 
-from roughgp.common.checks import as_generator, check_finite, check_integer
+from roughgp.common.checks import as_generator, check_finite, check_integer, check_scale
 from roughgp.common.device import resolve as resolve_device
 from roughgp.common.numerics import perturbed_start
 from roughgp.gp.toeplitz import (
@@ -113,6 +113,7 @@ def check_profile(x, z):
     if not spacing > 0 or np.max(np.abs(dx - spacing)) > 1e-6 * spacing:
         raise ValueError("x must be a regular, increasing grid (equal spacing > 0 to a "
                          f"relative 1e-6), got spacings in [{dx.min():.6g}, {dx.max():.6g}]")
+    check_scale("the spacing of x", spacing)  # 1e-300 gave infinite variances
     return x, z, spacing
 
 

@@ -13,6 +13,7 @@ stays ``H.NPY``).
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -70,8 +71,21 @@ def write_heights(path, z: np.ndarray, spacing, comment: str, *, source=None,
     kept = _kept(source, spread)
     if kept["comment"]:
         comment = f"{comment}; the input's comment: {kept['comment']}"
+    comment = _storable(comment)
     with atomic_output(path) as partial:
         _write(partial, path.suffix.lower(), z, spacing, comment, kept)
+
+
+#: characters XML 1.0 cannot hold (the x3p's comment): the C0 controls but tab, LF and CR
+_NOT_XML = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ufffe\uffff]")
+
+
+def _storable(comment: str) -> str:
+    """``comment`` as every format can store it: the bytes of a file name that is not UTF-8
+    (surrogate escapes) as ``\\xNN``, characters XML cannot hold as ``?`` (they failed the
+    x3p's comment after the work was done)."""
+    text = comment.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
+    return _NOT_XML.sub("?", text)
 
 
 def _write(path: Path, ext: str, z, spacing, comment: str, kept: dict) -> None:

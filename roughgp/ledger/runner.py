@@ -27,6 +27,7 @@ import time
 from pathlib import Path
 from typing import Callable, Iterable
 
+from roughgp.common.atomic import atomic_output
 from roughgp.ledger.table import CLAIM_TABLE
 from roughgp.ledger.types import Check, Claim, Outcome
 
@@ -86,8 +87,8 @@ def run(*, full: bool | None = None, only: Iterable[str] | None = None,
         full: the paper's sizes (slower) instead of the quick defaults; None: as
             ``ROUGHGP_FULL`` says (:func:`roughgp.common.settings.resolve_full`, the one rule).
         only: claim keys to run (each must exist); None runs all.
-        figures_dir: where to save each check's figure as ``KEY.png`` (created); None
-            closes the figures unsaved.
+        figures_dir: where to save each check's figure as ``KEY.png`` (created with the first
+            figure); None closes the figures unsaved.
         progress: called with a line of text before and after each check (e.g. ``print``),
             which starts with the claim's place in the run (``[3/25]``).
 
@@ -121,9 +122,8 @@ def run(*, full: bool | None = None, only: Iterable[str] | None = None,
                              f"that could fail")
     if narrowed is not None:
         selected = tuple(c for c in selected if c.key in narrowed)
-    if figures_dir is not None:
+    if figures_dir is not None:  # made with its first figure: an interrupt leaves no empty one
         figures_dir = Path(figures_dir)
-        figures_dir.mkdir(parents=True, exist_ok=True)
     outcomes = []
     for i, c in enumerate(selected, start=1):
         if c.check is None:
@@ -143,7 +143,8 @@ def run(*, full: bool | None = None, only: Iterable[str] | None = None,
         if result.figure is not None:
             if figures_dir is not None:
                 path = str(figures_dir / f"{c.key}.png")
-                result.figure.savefig(path, dpi=110, bbox_inches="tight")
+                with atomic_output(path) as partial:  # whole or not at all; the folder made
+                    result.figure.savefig(partial, dpi=110, bbox_inches="tight")
             plt.close(result.figure)
         if matplotlib.get_backend() != backend:  # pragma: no cover - checks never switch
             matplotlib.use(backend)

@@ -217,9 +217,12 @@ def default_cutoffs(z, spacing=1.0, *, by="Ra"):
         notes.append(f"L {_fmt(l_cut)}: largest preferred <= shorter side / 5 = {_fmt(side / 5)}"
                      if l_cut else "field too small for an L-filter (side / 5 < 2 spacings)")
         partner = next((r[1] for r in PROFILE_CUTOFFS if l_cut and l_cut <= r[0]), 0.0)
-        s_cut = min(v for v in PREFERRED_NESTING_INDICES if v >= max(3 * dmax, partner))
+        s_cut = min((v for v in PREFERRED_NESTING_INDICES if v >= max(3 * dmax, partner)),
+                    default=None)
         notes.append(f"S {_fmt(s_cut)}: smallest preferred >= 3 spacings ({_fmt(3 * dmax)})"
-                     + (f" and >= {_fmt(partner)}" if partner else ""))
+                     + (f" and >= {_fmt(partner)}" if partner else "") if s_cut is not None
+                     else f"no S-filter: 3 spacings ({_fmt(3 * dmax)}) exceed the largest "
+                          f"preferred nesting index ({_fmt(PREFERRED_NESTING_INDICES[-1])})")
     if s_cut is not None and (s_cut < 2 * dmax or (l_cut is not None and s_cut > l_cut / 3)):
         notes.append("S-filter off (below 2 spacings or not below L / 3)")
         s_cut = None

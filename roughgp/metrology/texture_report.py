@@ -21,6 +21,7 @@ import math
 
 import numpy as np
 
+from roughgp.common.checks import constant_variance
 from roughgp.common.memory import host_free_bytes
 from roughgp.metrology import texture, texture_heights
 from roughgp.metrology.filters import Texture, surface_texture
@@ -146,6 +147,12 @@ def filtered_parameters(z, spacing=1.0, *, form="plane", s="auto", l="auto", deg
         what = "unfiltered heights, referred to their mean"
     standard = (f"ISO 25178-2 areal parameters of the {what}" if areal else
                 f"ISO 4287 / ISO 13565-2 profile parameters of the {what}")
+    rounding = constant_variance(heights, z) if filtered else None
+    if rounding is not None and rounding > 0:  # a flat map: Sku 16 of the operators' rounding
+        heights = np.where(np.isfinite(heights), 0.0, heights)
+        notes.append(f"the heights after the operators are constant (variance {rounding:.3g} "
+                     f"um^2, the operators' rounding): the parameters of a flat surface (the "
+                     f"heights 0; the shape parameters undefined, nan)")
     missing = int(np.count_nonzero(~np.isfinite(heights)))
     if missing == 0:
         params = (texture.areal_parameters(heights, spacing=spacing, undefined="nan") if areal

@@ -193,7 +193,15 @@ def too_large_error(shape, spacing, min_rel, share, tolerance, largest, tried, n
                     max_points):
     """The error for an embedding that still has negative eigenvalues (down to ``min_rel`` x
     r(0), ``share`` of the trace) on the ``largest`` of the tori ``tried`` when the next one
-    would exceed ``max_points``."""
+    would exceed ``max_points``; no torus ``tried``: the first, long enough for the ACVF's
+    reach, already exceeds it."""
+    if not tried:
+        return NotEmbeddableError(
+            f"circulant embedding of shape {shape} (spacing {spacing}): the correlation "
+            f"reaches so far that the smallest torus that holds it, {tuple(next_torus)} "
+            f"points, exceeds max_points = {max_points}; no torus could be tried. Use "
+            f"approximate=True to clip (the lost variance is reported), a smaller grid, or "
+            f"method='cholesky'.")
     return NotEmbeddableError(
         f"circulant embedding of shape {shape} (spacing {spacing}) keeps negative "
         f"eigenvalues: most negative {min_rel:.3g} x r(0) (tolerance {tolerance:g}), "

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from roughgp.common.checks import surface_array
+from roughgp.common.checks import check_varies, surface_array
 from roughgp.common.grid import normalize
 from roughgp.metrology.filters import Texture, surface_texture
 from roughgp.surface_models.model import FittedModel
@@ -91,12 +91,16 @@ def _cutoffs(form, s, l, degree, axis):
 
 def measured_chain(arr, spacing, form, s, l, degree, axis, stage):
     """The measurement's chain (its cut-offs resolved), and the heights the model of ``stage``
-    is fitted to: after F alone (``"form-removed"``) or after every operator."""
+    is fitted to: after F alone (``"form-removed"``) or after every operator; a ``ValueError``
+    where they are constant (:func:`roughgp.common.checks.check_varies`: no model of a flat
+    map)."""
     if stage not in STAGES:
         raise ValueError(f"stage must be one of {list(STAGES)}, got {stage!r}")
     texture = surface_texture(arr, spacing, form=form, s=s, l=l, degree=degree, axis=axis)
     cutoffs = _cutoffs(form, texture.cutoffs.s, texture.cutoffs.l, degree, axis)
     heights = texture.sl if stage == "filtered" else form_removed(arr, spacing, cutoffs).sl
+    check_varies("the heights after the F-operator" + (" and the filters" if stage == "filtered"
+                                                       else ""), heights, arr)
     return texture, cutoffs, heights
 
 

@@ -103,7 +103,7 @@ def _marginal(heights, non_gaussian, marginal, texture=None, l_um=None):
 def fit_surface_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, axis="auto",
                       block=24, n_blocks=12, seed=0, non_gaussian=False, nu=0.5,
                       data=None, stage="form-removed", marginal=None,
-                      likelihood="blocks") -> SurfaceModelFit:
+                      likelihood="blocks", device=None) -> SurfaceModelFit:
     """Fit eq 18 plus noise to a measured surface ``z[iy, ix]`` (um, NaN where unmeasured).
 
     Args:
@@ -117,6 +117,9 @@ def fit_surface_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2,
             ``"whittle"`` (the debiased spatial Whittle likelihood of every measured point,
             :func:`~roughgp.inference.whittle_fit.fit_whittle`: its precision grows with the
             map; ``block`` and ``n_blocks`` are then not used).
+        device: with ``likelihood="whittle"``, where its FFTs and gradient run (None: torch on
+            the CPU; ``"cuda"``: a GPU, :mod:`roughgp.common.device`); the block fit has no
+            device path and refuses one.
         non_gaussian: keep the fitted heights' skewness and kurtosis in the model (the same as
             ``marginal="johnson"``).
         marginal: ``"gaussian"``, ``"johnson"`` or ``"iaaft"`` (the heights' quantile function,
@@ -136,8 +139,11 @@ def fit_surface_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2,
     if likelihood not in LIKELIHOODS:
         raise ValueError(f"likelihood must be one of {', '.join(LIKELIHOODS)}, got "
                          f"{likelihood!r}")
+    if device is not None and likelihood != "whittle":
+        raise ValueError(f"device={device!r} applies to likelihood='whittle' only (the block "
+                         f"fit runs on the CPU); leave device out or use likelihood='whittle'")
     if likelihood == "whittle":
-        fit = fit_whittle(heights, spacing=(dy, dx), nu=nu)
+        fit = fit_whittle(heights, spacing=(dy, dx), nu=nu, device=device)
         how = {"method": "maximum debiased spatial Whittle likelihood of every measured point "
                          "(roughgp.inference.whittle_fit)", "likelihood": "whittle",
                "log_likelihood": fit.log_likelihood, "n_frequencies": fit.n_frequencies}
@@ -241,9 +247,6 @@ def fit_sm_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, axis
     arr, (dy, dx), texture, cutoffs, heights = form_removed_surface(
         z, spacing, form, s, l, degree, axis, marginal, name="sm", min_side=16)
     measured = np.isfinite(heights)
-    scale = float(np.nanmean(arr * arr))
-    if not np.nanvar(heights) > 1e-24 * scale:  # rounding of the form removal
-        raise ValueError("the form-removed heights are constant: no spectrum to fit")
     mixture, table, notes = whittle_fit(heights, (dy, dx), max_components)
     hyper = {**mixture.hyperparameters(), "mean_um": float(np.mean(heights[measured]))}
     described = described_data(data, arr.shape, (dy, dx), measured)

@@ -73,8 +73,8 @@ import scipy.fft
 import scipy.ndimage
 import scipy.special
 
-__all__ = ["N_QUANTILES", "ITERATIONS", "quantile_table", "quantile_values", "johnson_values",
-           "iaaft", "iaaft_above"]
+__all__ = ["N_QUANTILES", "ITERATIONS", "quantile_table", "quantile_values",
+           "values_at_scores", "johnson_values", "iaaft", "iaaft_above"]
 
 N_QUANTILES = 1001  #: quantiles stored: probabilities 0, 0.001, ..., 1 (the extremes included)
 ITERATIONS = 10  #: the most rounds of remap and spectrum (fewer when the ranks settle)
@@ -112,8 +112,16 @@ def quantile_values(quantiles, tail_probability, n, rng=None):
     """``n`` values of the distribution whose quantile function is tabulated in ``quantiles``
     (:func:`quantile_table`), ascending: at the plotting positions ``(r + 1/2) / n``, or, with
     a generator ``rng``, at ``n`` sorted uniform random probabilities (a random sample)."""
+    return values_at_scores(quantiles, tail_probability,
+                            scipy.special.ndtri(_probabilities(n, rng)))
+
+
+def values_at_scores(quantiles, tail_probability, t):
+    """The heights at the normal scores ``t`` of the distribution tabulated in ``quantiles``
+    (:func:`quantile_table`): interpolated in the table, and beyond the measured extremes
+    straight on in the normal score with the slope of the table's outermost unit."""
     q = np.asarray(quantiles, dtype=np.float64)
-    t = scipy.special.ndtri(_probabilities(n, rng))
+    t = np.asarray(t, dtype=np.float64)
     scores = _scores(tail_probability, q.size)
     values = np.interp(t, scores, q)
     # beyond the measured extremes (more points than measured): straight on in the normal score

@@ -57,6 +57,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import weakref
 from pathlib import Path
 
 import numpy as np
@@ -78,6 +79,8 @@ from roughgp.surface_models.schema import (
 __all__ = ["FittedModel", "MODEL_FORMAT", "MODEL_VERSION", "EQUATIONS", "STAGES", "ModelFileError"]
 
 MODEL_VERSION = 2
+#: id -> weak reference of the models whose heights were bounded (FittedModel._bound_heights)
+_HEIGHTS_BOUNDED: dict = {}
 _MAX_SIMULATE_POINTS = 2 ** 24
 
 
@@ -87,8 +90,8 @@ class FittedModel:
     model (module docstring).
 
     Attributes:
-        equation: ``"eq18"``, ``"eq18-matern"``, ``"eq21"``, ``"measured-psd"`` or
-            ``"sm2d"``.
+        equation: ``"eq18"``, ``"eq18-matern"``, ``"eq21"``, ``"measured-psd"``, ``"sm2d"``
+            or ``"eq18-field"`` (:mod:`roughgp.surface_models.field_model`).
         hyperparameters: the names of :data:`EQUATIONS` (units in the names: um, um^2, deg,
             1/um); eq 21's are lists of Q values.
         spacing: the grid spacing of the data, ``(dy, dx)`` (surface) or ``(dx,)`` (profile), um.
@@ -135,6 +138,10 @@ class FittedModel:
         by the inverse DFT of its PSD
         (:class:`~roughgp.surface_models.measured_psd.TabulatedACVF`)."""
         hp = self.hyperparameters
+        if self.equation == "eq18-field":
+            raise ValueError("the eq18-field model has no single kernel (its parameters vary "
+                             "over the map): fill, the calibrated check and the predictive "
+                             "draws need a stationary model (fit one with --model eq18)")
         if self.equation == "measured-psd":
             from roughgp.surface_models.measured_psd import TabulatedACVF
             return TabulatedACVF(self)
@@ -167,6 +174,8 @@ class FittedModel:
         if self.equation == "measured-psd":
             from roughgp.surface_models.measured_psd import band_variance
             return band_variance(self)
+        if self.equation == "eq18-field":  # the mean over the anchors
+            return float(np.mean(hp["variance_um2"]))
         if self.kind == "surface" and self.equation != "sm2d":
             return float(hp["variance_um2"])
         return float(np.sum(hp["weights_um2"]))
@@ -188,6 +197,14 @@ class FittedModel:
             text = (f"2-D spectral mixture: Q = {len(hp['weights_um2'])} components, variance "
                     f"{self.latent_variance():.4g} um^2"
                     + (f", peaks at periods {periods} um" if periods else ", no peak"))
+        elif self.equation == "eq18-field":
+            rows, cols = len(hp["anchors_y_um"]), len(hp["anchors_x_um"])
+            ranges = ", ".join(f"{label} {np.min(hp[key]):.4g} to {np.max(hp[key]):.4g}{unit}"
+                               for label, key, unit in (("variance", "variance_um2", " um^2"),
+                                                        ("lambda_a", "lambda_a_um", " um"),
+                                                        ("lambda_b", "lambda_b_um", " um"),
+                                                        ("angle", "angle_deg", " deg")))
+            text = f"eq 18 with parameter fields on {rows} x {cols} anchors: {ranges}"
         elif self.kind == "surface":
             name = "eq 18" if self.equation == "eq18" else f"eq 18 with Matern nu = {hp['nu']:g}"
             text = (f"{name}: variance {hp['variance_um2']:.4g} um^2, lambda_a "
@@ -229,7 +246,11 @@ class FittedModel:
             raise ValueError(f"n_samples x shape = {count * math.prod(shape)} points exceeds "
                              f"{_MAX_SIMULATE_POINTS} (2**24): draw fewer or smaller surfaces")
         shape, spacing = normalize(shape, self.spacing if spacing is None else spacing)
+        self._bound_heights()  # before drawing: no height beyond the readers' 1 m
         rng = as_generator(seed)
+        if self.equation == "eq18-field":
+            from roughgp.surface_models.field_draw import draw_field_model
+            return self._returned(draw_field_model(self, shape, spacing, rng, count), n_samples)
         if self.equation == "sm2d":
             from roughgp.surface_models.spectral_mixture import Mixture2D, check_embeddable
             check_embeddable(Mixture2D.from_hyperparameters(self.hyperparameters), shape,
@@ -258,11 +279,44 @@ class FittedModel:
             w = self.latent_variance() / (self.latent_variance() + self.noise_variance)
             skew = float(self.marginal["skewness"]) / w ** 1.5
             kurt = 3.0 + (float(self.marginal["kurtosis"]) - 3.0) / w ** 2
-            latent, _ = non_gaussian_surface(self.kernel(), shape, skewness=skew, kurtosis=kurt,
-                                             spacing=spacing, seed=rng, n_samples=count,
-                                             method="circulant" if method == "auto" else method)
+            try:
+                latent, _ = non_gaussian_surface(
+                    self.kernel(), shape, skewness=skew, kurtosis=kurt, spacing=spacing,
+                    seed=rng, n_samples=count,
+                    method="circulant" if method == "auto" else method)
+            except ValueError as exc:
+                if "kurtosis" not in str(exc):
+                    raise
+                raise ValueError(self._latent_marginal_refusal(w, skew, kurt, exc)) from None
         z = GaussianNoise(self.noise_variance).sample(latent, seed=rng)
         return self._returned(z, n_samples)
+
+    def _bound_heights(self, source="the model") -> None:
+        """:func:`~roughgp.surface_models.height_bound.check_height_bound`, once per model (a
+        check draws 99 times from one; the measured PSD's variance costs an FFT)."""
+        checked = _HEIGHTS_BOUNDED.get(id(self))
+        if checked is not None and checked() is self:
+            return
+        from roughgp.surface_models.height_bound import check_height_bound
+        check_height_bound(self, source)
+        if len(_HEIGHTS_BOUNDED) > 4096:  # forget the models gone
+            for key in [k for k, ref in _HEIGHTS_BOUNDED.items() if ref() is None]:
+                del _HEIGHTS_BOUNDED[key]
+        _HEIGHTS_BOUNDED[id(self)] = weakref.ref(self)  # outside the object: its __dict__ is
+        # its fields (FittedModel(**model.__dict__) copies a model)
+
+    def _latent_marginal_refusal(self, w, skew, kurt, exc) -> str:
+        """Why the Johnson marginal cannot be drawn, in the file's fields: the latent surface
+        carries a share ``w`` of the variance, so the heights' skewness and kurtosis ask it
+        for ``skew`` and ``kurt`` (``exc``: the Johnson fit's refusal of those)."""
+        s, k = float(self.marginal["skewness"]), float(self.marginal["kurtosis"])
+        least = 3.0 + s * s / w - 2.0 * w * w  # kurt > skew**2 + 1, in the file's terms
+        return (f"the marginal's skewness {s:.4g} and kurtosis {k:.4g} cannot be drawn with "
+                f"this noise: the latent surface carries {w:.3g} of the variance "
+                f"(variance against noise_variance_um2 {self.noise_variance:.4g} um^2), so it "
+                f"would need skewness {skew:.4g} and kurtosis {kurt:.4g} ({exc}); give a "
+                f"marginal kurtosis above {least:.4g}, a smaller skewness or a smaller "
+                f"noise_variance_um2")
 
     @staticmethod
     def _returned(z, n_samples):
@@ -320,8 +374,11 @@ class FittedModel:
     @classmethod
     def from_dict(cls, values, source="the model") -> "FittedModel":
         """A model from the parsed JSON of a model file, validated
-        (:func:`~roughgp.surface_models.schema.validate_record`)."""
-        return cls(**validate_record(values, source))
+        (:func:`~roughgp.surface_models.schema.validate_record`) and its heights bounded
+        (:func:`~roughgp.surface_models.height_bound.check_height_bound`)."""
+        model = cls(**validate_record(values, source))
+        model._bound_heights(source)
+        return model
 
     def save(self, path) -> Path:
         """Write the model file whole or not at all (:func:`roughgp.common.atomic.atomic_output`:

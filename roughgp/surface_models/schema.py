@@ -17,8 +17,8 @@ import math
 
 __all__ = ["ModelFileError", "MODEL_FORMAT", "MODEL_VERSIONS", "STAGES", "EQUATIONS", "RANGES",
            "MAX_DEPTH", "MAX_FILE_BYTES", "MAX_MIXTURES", "MAX_SM2D_COMPONENTS",
-           "SM2D_BANDWIDTHS", "FORMS", "AXES", "validate_record",
-           "check_fields"]
+           "SM2D_BANDWIDTHS", "FORMS", "AXES", "MAX_ANCHORS", "FIELD_NAMES", "FIT_INTEGERS",
+           "FIT_LIKELIHOODS", "validate_record", "check_fields", "check_fit"]
 
 MODEL_FORMAT = "roughgp-model"
 #: versions read: 1 (no stage: its models describe the filtered heights) and 2
@@ -38,7 +38,15 @@ EQUATIONS = {
     "sm2d": ("surface", ("weights_um2", "frequencies_x_per_um", "frequencies_y_per_um",
                          "bandwidths_a_per_um", "bandwidths_b_per_um", "axes_deg",
                          "noise_variance_um2")),
+    # eq 18 with parameter fields: their values at anchors (rows y, columns x), interpolated
+    # between them (roughgp.surface_models.field_model)
+    "eq18-field": ("surface", ("anchors_x_um", "anchors_y_um", "variance_um2", "lambda_a_um",
+                               "lambda_b_um", "angle_deg", "noise_variance_um2")),
 }
+#: the parameter fields' most anchors per axis
+MAX_ANCHORS = 32
+#: the fields of the eq18-field model, each a list of rows (anchors_y) of anchors_x values
+FIELD_NAMES = ("variance_um2", "lambda_a_um", "lambda_b_um", "angle_deg")
 #: the 2-D spectral mixture's most components (its fit tries 4 by default)
 MAX_SM2D_COMPONENTS = 8
 #: its bandwidths' allowed range, in units of the Nyquist frequency 1 / (2 spacing): at least
@@ -55,11 +63,17 @@ MAX_MIXTURES = 50
 MAX_DEPTH = 8
 MAX_FILE_BYTES = 1 << 20
 MAX_OPERATORS = 16
+#: the fields of the ``fit`` object that roughgp reads back (a calibrated check refits the
+#: model the way it was fitted): integer name -> allowed range; ``likelihood`` one of
+#: :data:`FIT_LIKELIHOODS`. The object's other fields (method, log likelihood, notes) are a
+#: record, not read back.
+FIT_INTEGERS = {"seed": (0, 2**32 - 1), "block": (4, 1024), "n_blocks": (1, 10000)}
+FIT_LIKELIHOODS = ("blocks", "whittle")
 FORMS = ("plane", "polynomial", "cylinder", None)
 AXES = ("auto", "x", "y")
 #: name -> (low, high, low included): the allowed range of each number (um, um^2, deg, 1/um)
 RANGES = {
-    "spacing_um": (0.0, 1e6, False),
+    "spacing_um": (1e-6, 1e6, True),  # the readers' step (roughgp.io.plausibility): 1 pm to 1 m
     "variance_um2": (0.0, 1e12, False),
     "weights_um2": (0.0, 1e12, False),
     "noise_variance_um2": (0.0, 1e12, True),
@@ -84,6 +98,8 @@ RANGES = {
     "bandwidths_a_per_um": (0.0, 1e9, False),
     "bandwidths_b_per_um": (0.0, 1e9, False),
     "axes_deg": (-360.0, 360.0, True),
+    "anchors_x_um": (-1e9, 1e9, True),
+    "anchors_y_um": (-1e9, 1e9, True),
 }
 _TOP = {"format", "version", "equation", "kind", "stage", "description", "hyperparameters",
         "spacing_um", "marginal", "operators", "cutoffs", "data", "fit", "roughgp_version"}
@@ -165,6 +181,11 @@ def check_fields(equation, hyperparameters, spacing, marginal, cutoffs, stage, o
         _check_psd(hp)
     elif equation == "sm2d":
         _check_sm2d(hp, spacing)
+    elif equation == "eq18-field":
+        _check_field(hp, spacing)
+        if marginal is not None:
+            raise ModelFileError("the eq18-field model draws Gaussian heights: its marginal "
+                                 "must be null")
     elif kind == "surface":
         for name in ("variance_um2", "lambda_a_um", "lambda_b_um", "angle_deg"):
             number(name, hp[name])
@@ -246,11 +267,43 @@ def _check_psd(hp):
         total += sum(number("psd_um4", v, where=f"psd_um4[{i}][{j}]") for j, v in enumerate(row))
     if not total > 0:
         raise ModelFileError("psd_um4 must hold at least one value > 0")
+    if hp["noise_variance_um2"] != 0:
+        raise ModelFileError(f"noise_variance_um2 of a measured-psd model must be 0 (its white "
+                             f"noise is part of psd_um4, the table's flat high-frequency "
+                             f"floor, and no command adds another), got "
+                             f"{hp['noise_variance_um2']!r}")
     low = number("frequency_min_per_um", hp["frequency_min_per_um"])
     high = number("frequency_max_per_um", hp["frequency_max_per_um"])
     if not low < high:
         raise ModelFileError(f"frequency_min_per_um must be smaller than frequency_max_per_um, "
                              f"got {low:g} and {high:g}")
+
+
+def _check_field(hp, spacing):
+    """The eq18-field model: 1 to :data:`MAX_ANCHORS` strictly increasing anchors per axis,
+    and each field of :data:`FIELD_NAMES` a list of ``len(anchors_y_um)`` rows of
+    ``len(anchors_x_um)`` numbers in the range of the stationary eq 18's."""
+    axes = {}
+    for name in ("anchors_x_um", "anchors_y_um"):
+        values = _numbers(name, hp[name], count=range(1, MAX_ANCHORS + 1))
+        if any(b <= a for a, b in zip(values, values[1:])):
+            raise ModelFileError(f"{name} must be strictly increasing, got {values!r:.200}")
+        axes[name] = values
+    rows, cols = len(axes["anchors_y_um"]), len(axes["anchors_x_um"])
+    for name in FIELD_NAMES:
+        grid = hp[name]
+        if not isinstance(grid, list) or len(grid) != rows or not all(
+                isinstance(row, list) and len(row) == cols for row in grid):
+            raise ModelFileError(f"{name} must be a list of {rows} rows (anchors_y_um) of {cols} "
+                                 f"numbers (anchors_x_um), got {grid!r:.120}")
+        for i, row in enumerate(grid):
+            for j, value in enumerate(row):
+                value = number(name, value, where=f"{name}[{i}][{j}]")
+                if name.startswith("lambda") and not \
+                        1e-3 * min(spacing) <= value <= 1e7 * max(spacing):
+                    raise ModelFileError(f"{name}[{i}][{j}] must be within [1e-3, 1e7] spacings "
+                                         f"([{1e-3 * min(spacing):g}, {1e7 * max(spacing):g}] "
+                                         f"um), got {value!r}")
 
 
 def _check_sm2d(hp, spacing):
@@ -275,6 +328,20 @@ def _check_sm2d(hp, spacing):
                 raise ModelFileError(f"{name}[{i}] must be within [{low:g}, {high:g}] 1/um "
                                      f"({SM2D_BANDWIDTHS[0]:g} to {SM2D_BANDWIDTHS[1]:g} times "
                                      f"the Nyquist frequency), got {b!r}")
+
+
+def check_fit(fit) -> None:
+    """The ``fit`` object's fields that are read back (:data:`FIT_INTEGERS`, ``likelihood``):
+    integers (not ``true``, not ``"24"``, not ``[1]``) in their ranges, a known likelihood."""
+    for name, (low, high) in FIT_INTEGERS.items():
+        if name in fit:
+            value = fit[name]
+            if not isinstance(value, int) or isinstance(value, bool) or not low <= value <= high:
+                raise ModelFileError(f"fit.{name} must be an integer in [{low}, {high}], got "
+                                     f"{value!r:.60}")
+    if "likelihood" in fit and fit["likelihood"] not in FIT_LIKELIHOODS:
+        raise ModelFileError(f"fit.likelihood must be one of {list(FIT_LIKELIHOODS)}, got "
+                             f"{fit['likelihood']!r:.60}")
 
 
 def _check_cutoffs(cutoffs):
@@ -319,6 +386,10 @@ def validate_record(values, source="the model") -> dict:
     extra = sorted(set(values) - _TOP)
     if extra:
         raise ModelFileError(f"{source} has unknown field(s) {', '.join(map(str, extra))}")
+    if version == 1 and values.get("stage", "filtered") != "filtered":
+        raise ModelFileError(f"{source} is a model file of version 1, whose models describe the "
+                             f"filtered heights, but states \"stage\": {values['stage']!r:.60}: "
+                             f"give \"version\": 2 to keep that stage, or drop the stage")
     for name in ("data", "fit", "cutoffs"):
         if not isinstance(values.get(name, {}), dict):
             raise ModelFileError(f"{source}: {name} must be an object, got {values[name]!r}")
@@ -331,6 +402,7 @@ def validate_record(values, source="the model") -> dict:
               "stage": values["stage"] if version > 1 else "filtered"}
     try:
         check_fields(**fields)
+        check_fit(values.get("fit", {}))
     except ModelFileError as exc:
         raise ModelFileError(f"{source}: {exc}") from None
     if "kind" in values and values["kind"] != EQUATIONS[values["equation"]][0]:

@@ -102,7 +102,7 @@ def test_reproduce_one_claim_writes_the_ledger(capsys, tmp_path):
     markdown = (tmp_path / "ledger.md").read_text()
     assert markdown.startswith("# roughgp claims ledger")
     assert ledger.claim("eq5-duality").where in markdown
-    assert (tmp_path / "figures").is_dir()
+    assert (tmp_path / "figures").is_dir() == (records[0]["figure"] is not None)
 
 
 def test_reproduce_exits_1_and_names_a_regression(capsys, monkeypatch):

@@ -110,3 +110,30 @@ def test_fit_whittle_is_recorded_and_refitted_alike(capsys, left_fit, tmp_path):
     assert refit.fit["likelihood"] == "whittle"
     code, _, err = _run(capsys, "fit", "ground", left_fit / "map.npy", "--likelihood", "exact")
     assert code == 2 and "--likelihood" in err and "'blocks', 'whittle'" in err
+
+
+def test_fit_whittle_on_the_cpu_device_is_the_same_fit(capsys, left_fit, tmp_path):
+    """``--device cpu`` runs the Whittle fit's torch code on the CPU: the same model file's
+    numbers as without it (the CUDA path is compared in tests/common/test_device.py)."""
+    from roughgp.surface_models.model import FittedModel
+    outputs = []
+    for name, extra in (("plain", ()), ("cpu", ("--device", "cpu"))):
+        code, _, err = _run(capsys, "fit", "ground", left_fit / "map.npy", "--part", "left",
+                            "--likelihood", "whittle", "--l-filter", "none", *extra,
+                            "--out", tmp_path / f"{name}.json")
+        assert code == 0, err
+        outputs.append(FittedModel.load(tmp_path / f"{name}.json").hyperparameters)
+    assert outputs[0] == pytest.approx(outputs[1], rel=1e-6)
+
+
+@pytest.mark.parametrize("extra, words", [
+    ((), "--device applies to --model eq18 with --likelihood whittle only"),
+    (("--likelihood", "whittle", "--model", "matern"), "got --model matern"),
+    (("--likelihood", "whittle", "--device", "gpu"), "--device must be None"),
+])
+def test_fit_device_is_refused_where_it_does_not_apply(capsys, left_fit, tmp_path, extra, words):
+    device = () if "--device" in extra else ("--device", "cpu")
+    code, _, err = _run(capsys, "fit", "ground", left_fit / "map.npy", *device, *extra,
+                        "--out", tmp_path / "never.json")
+    assert code == 2 and words in err, err
+    assert not (tmp_path / "never.json").exists()

@@ -156,9 +156,9 @@ def _writing(folder: Path, before: dict) -> bool:
     return False
 
 
-def _interrupt_while_writing(argv, folder: Path, *, env=None) -> int:
-    """Start ``argv``, wait until it writes into ``folder``, send SIGINT, and return the exit
-    code."""
+def _interrupt_while_writing(argv, folder: Path, *, env=None, sig=signal.SIGINT) -> int:
+    """Start ``argv``, wait until it writes into ``folder``, send ``sig`` (SIGINT), and return
+    the exit code."""
     before = {p.name: p.stat().st_size for p in folder.iterdir()}
     process = subprocess.Popen(argv, cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT),
                                                      **(env or {})},
@@ -173,12 +173,23 @@ def _interrupt_while_writing(argv, folder: Path, *, env=None) -> int:
             time.sleep(0.02)
         else:
             raise AssertionError("nothing was written")
-        process.send_signal(signal.SIGINT)
+        process.send_signal(sig)
         return process.wait(timeout=120)
     finally:
         if process.poll() is None:
             process.kill()
             process.wait()
+
+
+def test_sigterm_during_simulate_leaves_no_partial_file(tmp_path):
+    """Issue 44 part 2: SIGTERM (what ``timeout`` and ``kill`` send) left the temporary
+    ``.NAME.<hex>.partial.csv``; it is cleaned up as SIGINT is, exit 143."""
+    out = tmp_path / "x.csv"
+    argv = [sys.executable, "-m", "roughgp.cli.main", "simulate", "ground", "--shape", "1200",
+            "1200", "--lambda-a", "4", "--lambda-b", "2", "--seed", "1", "--out", str(out)]
+    code = _interrupt_while_writing(argv, tmp_path, sig=signal.SIGTERM)
+    assert code == 143
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_sigint_during_a_write_leaves_no_partial_file(tmp_path):

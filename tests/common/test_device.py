@@ -20,7 +20,7 @@ from roughgp.cli.main import main
 from roughgp.common import device as dev
 from roughgp.filling import global_fill as gap_filling
 from roughgp.gp import kernels, toeplitz
-from roughgp.inference import fitting, posterior
+from roughgp.inference import fitting, posterior, whittle_fit
 from roughgp.models import surfaces
 
 HAS_CUDA = torch.cuda.is_available()
@@ -221,6 +221,42 @@ def test_spectral_mixture_fit_on_a_device_follows_the_same_path(device):
     assert b.chosen == a.chosen
     assert abs(b.log_marginal_likelihood - a.log_marginal_likelihood) < 1e-3
     np.testing.assert_allclose(b.means, a.means, rtol=1e-3)
+
+
+@pytest.mark.parametrize("device", DEVICES)
+def test_whittle_likelihood_and_fit_on_a_device_follow_the_cpu(device):
+    """The debiased Whittle likelihood (issue 40) on a device: the same value and gradient as
+    torch on the CPU (to rounding), and the same optimum of a fit with holes."""
+    kernel = kernels.RotatedExponentialKernel(variance=2.0, lengthscales=(6.0, 2.0), angle=0.5)
+    z = sampling.sample_grid(kernel, (48, 56), seed=3, method="circulant")[0]
+    holes = np.random.default_rng(3).random(z.shape) < 0.1
+    valid = ~holes
+    u = np.array([0.5, 1.5, 0.6, 0.3, -2.0])
+    here = whittle_fit.WhittleLikelihood(z - z.mean(), valid, (1.0, 1.0))
+    there = whittle_fit.WhittleLikelihood(z - z.mean(), valid, (1.0, 1.0), device=device)
+    value, grad = here.value_and_gradient(u)
+    value_d, grad_d = there.value_and_gradient(u)
+    assert value_d == pytest.approx(value, rel=1e-11)
+    np.testing.assert_allclose(grad_d, grad, rtol=1e-8, atol=1e-8)
+    a = whittle_fit.fit_whittle(np.where(holes, np.nan, z))
+    b = whittle_fit.fit_whittle(np.where(holes, np.nan, z), device=device)
+    assert abs(b.log_likelihood - a.log_likelihood) < 1e-6
+    assert b.groove.variance == pytest.approx(a.groove.variance, rel=1e-4)
+    assert b.groove.lengthscales == pytest.approx(a.groove.lengthscales, rel=1e-4)
+
+
+def test_the_block_fit_refuses_a_device():
+    from roughgp.surface_models.fit import fit_surface_model
+    z = np.random.default_rng(0).standard_normal((32, 32))
+    with pytest.raises(ValueError, match="device='cpu' applies to likelihood='whittle' only"):
+        fit_surface_model(z, device="cpu")
+
+
+def test_whittle_fit_refuses_a_map_beyond_memory(monkeypatch):
+    monkeypatch.setattr(dev, "free_bytes", lambda device: 10 * 2**20)
+    with pytest.raises(ValueError, match="the Whittle likelihood needs about .* GiB on cpu"):
+        whittle_fit.fit_whittle(np.random.default_rng(0).standard_normal((256, 256)),
+                                device="cpu")
 
 
 # ------------------------------------------------------------------ gap filling

@@ -40,3 +40,12 @@ def test_the_largest_allowed_settings_are_accepted_by_the_checks(monkeypatch):
     with pytest.raises(Stop):
         fitting.fit_spectral_mixture(x, np.sin(0.3 * x), fitting.MAX_MIXTURES,
                                      n_candidates=fitting.MAX_CANDIDATES, seed=0)
+
+
+@pytest.mark.parametrize("factor", [1e-300, 1e300])
+def test_positions_scaled_beyond_float64_are_refused_by_name(factor):
+    """Issue 44 part 2: positions scaled by 1e-300 returned infinite variances with only a
+    RuntimeWarning."""
+    x = np.arange(256, dtype=float) * factor
+    with pytest.raises(ValueError, match=r"the spacing of x must be > 0 and within \[1e-60"):
+        fitting.fit_spectral_mixture(x, np.sin(0.3 * np.arange(256.0)), 1, seed=0)

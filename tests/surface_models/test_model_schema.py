@@ -76,7 +76,9 @@ HOSTILE = [
     (("hyperparameters", "mean_um"), "0", "mean_um must be a number"),
     (("hyperparameters", "nu"), 1.5, "unknown hyperparameters nu"),
     (("spacing_um",), [1.0], "spacing_um must hold 2 values"),
-    (("spacing_um",), [1.0, 0.0], "spacing_um[1] must be a finite number in (0"),
+    (("spacing_um",), [1.0, 0.0], "spacing_um[1] must be a finite number in [1e-06, 1e+06]"),
+    # issue 44 part 2: 1e-300 was blamed on lambda_a_um
+    (("spacing_um",), [1e-300, 1.0], "spacing_um[0] must be a finite number in [1e-06, 1e+06]"),
     (("spacing_um",), [1.0, True], "spacing_um[1] must be a number"),
     (("spacing_um",), 1.0, "spacing_um must be a non-empty list"),
     (("spacing_um",), _DELETE, "lacks the field(s) spacing_um"),
@@ -98,6 +100,13 @@ HOSTILE = [
     (("operators",), [1], "operators must be a list"),
     (("data",), [1], "data must be an object"),
     (("fit",), "x", "fit must be an object"),
+    # issue 44 part 2: the fields of fit read back (a calibrated check refits with them)
+    (("fit", "seed"), [1], "fit.seed must be an integer in [0, 4294967295]"),
+    (("fit", "seed"), True, "fit.seed must be an integer"),
+    (("fit", "seed"), -1, "fit.seed must be an integer"),
+    (("fit", "block"), "24", "fit.block must be an integer in [4, 1024]"),
+    (("fit", "n_blocks"), 1.5, "fit.n_blocks must be an integer"),
+    (("fit", "likelihood"), "exact", "fit.likelihood must be one of"),
     (("data", "deep"), [[[[[[[[[1]]]]]]]]], "nested deeper"),
 ]
 
@@ -131,6 +140,15 @@ def test_a_hostile_profile_model_is_refused_by_name(path, value, message):
     assert message in str(info.value)
 
 
+def test_a_version_1_file_stating_another_stage_is_refused():
+    """Version 1 had no stage (its models describe the filtered heights): a stage
+    "form-removed" in it was silently replaced by "filtered"."""
+    record = {**EQ18.to_dict(), "version": 1, "stage": "form-removed"}
+    with pytest.raises(ModelFileError, match="version 1.*form-removed.*\"version\": 2"):
+        FittedModel.from_dict(record)
+    assert FittedModel.from_dict({**record, "stage": "filtered"}).stage == "filtered"
+
+
 def test_good_files_round_trip_and_nan_or_huge_files_are_refused(tmp_path):
     for model in (EQ18, EQ21):
         assert FittedModel.load(model.save(tmp_path / "m.json")) == model
@@ -156,3 +174,17 @@ def test_the_cli_refuses_a_hostile_model_with_one_line_and_exit_2(tmp_path, caps
     err = capsys.readouterr().err
     assert code == 2 and "cutoffs.l_um must be a number" in err and "Traceback" not in err
     assert not (tmp_path / "o.npy").exists()
+
+
+def test_check_calibrate_of_a_model_with_a_list_seed_exits_2_naming_the_field(tmp_path, capsys):
+    """Issue 44 part 2: ``"fit": {"seed": [1]}`` gave a TypeError in the calibrated check."""
+    import numpy as np
+
+    from roughgp.cli.main import main
+    file, data = tmp_path / "m.json", tmp_path / "z.npy"
+    record = {**EQ18.to_dict(), "stage": "form-removed", "fit": {"seed": [1]}}
+    file.write_text(json.dumps(record))
+    np.save(data, np.random.default_rng(0).normal(size=(16, 16)))
+    code = main(["check", str(file), str(data), "--calibrate", "1"])
+    err = capsys.readouterr().err
+    assert code == 2 and "fit.seed must be an integer" in err and "Traceback" not in err

@@ -1,0 +1,45 @@
+"""A warning with an estimate before a long run: the pace of its first unit (a simulation, a
+bootstrap copy) times the units left, said once when the whole run would take longer than
+:data:`LONG_RUN_S`, with the options that shorten it. Argument handling and messages only.
+"""
+
+from __future__ import annotations
+
+import time
+
+from roughgp.cli.output import err
+
+__all__ = ["LONG_RUN_S", "Pace", "duration"]
+
+#: a run longer than this (seconds, at the first unit's pace) is announced with its estimate
+LONG_RUN_S = 60.0
+
+
+def duration(seconds: float) -> str:
+    """``seconds`` in words: ``"45 s"``, ``"3.2 min"``, ``"1.5 h"``."""
+    if seconds < 90:
+        return f"{seconds:.0f} s"
+    if seconds < 5400:
+        return f"{seconds / 60:.1f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
+class Pace:
+    """A progress callback ``(done, total)`` that, after the first unit, warns once when the
+    ``total`` units of ``what`` would take longer than :data:`LONG_RUN_S` at that pace, naming
+    ``shorter`` (the options that shorten the run); ``then`` (a progress callback) is called
+    after it."""
+
+    def __init__(self, what: str, shorter: str, then=None):
+        self.what, self.shorter, self.then = what, shorter, then
+        self.start = time.perf_counter()
+        self.estimate = None
+
+    def __call__(self, done: int, total: int) -> None:
+        if self.estimate is None:
+            self.estimate = (time.perf_counter() - self.start) / max(done, 1) * total
+            if self.estimate > LONG_RUN_S:
+                err(f"warning: {total} {self.what} take about {duration(self.estimate)} at the "
+                    f"pace of the first ({self.shorter} make it shorter; Ctrl-C stops it)")
+        if self.then is not None:
+            self.then(done, total)

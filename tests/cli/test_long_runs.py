@@ -1,0 +1,49 @@
+"""Issue 44 part 2, unbounded runs: ``check`` (plain or ``--calibrate``) says, after its first
+simulation or bootstrap copy, how long the whole run will take at that pace when it is long,
+naming the options that shorten it (roughgp.cli.pace)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from roughgp.cli import pace
+from roughgp.surface_models.model import FittedModel
+from cli_run import run as _run
+
+
+@pytest.fixture
+def model_and_map(tmp_path):
+    model = FittedModel("eq18", {"variance_um2": 1.0, "lambda_a_um": 3.0, "lambda_b_um": 1.5,
+                                 "angle_deg": 0.0, "noise_variance_um2": 0.01}, (1.0, 1.0),
+                        stage="form-removed", cutoffs={"form": "plane", "s_um": None,
+                                                       "l_um": None},
+                        fit={"seed": 0, "block": 8, "n_blocks": 4})
+    z = model.simulate((16, 16), seed=1)
+    np.save(tmp_path / "z.npy", z)
+    return model.save(tmp_path / "m.json"), tmp_path / "z.npy"
+
+
+@pytest.mark.parametrize("options, words", [
+    (("--simulations", 3), "warning: 3 simulations, each measured take about"),
+    (("--simulations", 2, "--calibrate", 2),
+     "warning: 2 bootstrap copies, each refitted and checked take about"),
+])
+def test_a_long_check_is_announced_with_its_estimate(capsys, monkeypatch, model_and_map,
+                                                     options, words):
+    monkeypatch.setattr(pace, "LONG_RUN_S", -1.0)  # every run is long
+    model, z = model_and_map
+    code, _, err = _run(capsys, "check", model, z, *options, "--seed", 0)
+    assert code == 0, err
+    assert words in err and "--simulations" in err and "--part" in err
+    assert err.count("warning: ") == 1
+
+
+def test_a_short_check_says_nothing_of_its_length(capsys, model_and_map):
+    model, z = model_and_map
+    code, _, err = _run(capsys, "check", model, z, "--simulations", 3, "--seed", 0)
+    assert code == 0 and "take about" not in err, err
+
+
+def test_durations_in_words():
+    assert [pace.duration(s) for s in (45, 200, 7200)] == ["45 s", "3.3 min", "2.0 h"]

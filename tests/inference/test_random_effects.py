@@ -1,0 +1,107 @@
+"""The random-effects pooling of regional estimates (roughgp.inference.random_effects, issue
+40 item 3): its spread and tests on cases of known answer."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from roughgp.inference.random_effects import pool, wrap_angle
+
+
+def _grid(m=4, n=4):
+    x, y = np.meshgrid(np.arange(n) * 10.0, np.arange(m) * 10.0)
+    return np.stack([x, y], axis=-1)
+
+
+def test_regions_of_one_value_pool_to_it_and_pass_the_test_of_homogeneity():
+    """200 sets of 16 regions sharing one value, each seen with its own noise: tau is 0 in most
+    sets, the homogeneity test's p values are uniform (about 5 % below 0.05), and the pooled
+    mean's interval holds the truth in about 95 %."""
+    rng = np.random.default_rng(0)
+    ps, covered, zero = [], [], []
+    for _ in range(200):
+        v = rng.uniform(0.01, 0.05, 16)
+        result = pool(1.0 + rng.standard_normal(16) * np.sqrt(v), v)
+        ps.append(result.p_homogeneity)
+        covered.append(abs(result.mean - 1.0) <= 1.96 * result.mean_sd)
+        zero.append(result.tau == 0)
+    assert 0.02 <= np.mean(np.array(ps) < 0.05) <= 0.09
+    assert 0.91 <= np.mean(covered) <= 0.99
+    assert np.mean(zero) > 0.5
+    # shrunk all the way to the population when tau is 0
+    v = np.full(16, 0.04)
+    result = pool(1.0 + 0.01 * rng.standard_normal(16), v)
+    assert result.tau == 0 and np.allclose(result.shrunk, result.mean)
+
+
+def test_a_known_spread_between_regions_is_recovered():
+    rng = np.random.default_rng(1)
+    taus = []
+    for _ in range(100):
+        v = np.full(16, 0.01)
+        truth = 2.0 + 0.3 * rng.standard_normal(16)
+        result = pool(truth + rng.standard_normal(16) * 0.1, v)
+        taus.append(result.tau)
+        assert result.p_homogeneity < 0.01
+    assert np.median(taus) == pytest.approx(0.3, rel=0.15)
+
+
+def test_a_gradient_is_kept_and_the_outer_regions_are_not_pulled_in():
+    """Regions on a plane in position: the trend is kept (p below 1 %), the shrunk values
+    follow the plane; without positions the outer regions are pulled towards the middle."""
+    rng = np.random.default_rng(2)
+    xy = _grid()
+    truth = 0.02 * xy[..., 0]
+    v = np.full(truth.shape, 0.0025)
+    estimates = truth + 0.05 * rng.standard_normal(truth.shape)
+    with_trend = pool(estimates, v, positions=xy)
+    assert with_trend.p_trend < 0.01 and with_trend.slope[0] == pytest.approx(0.02, rel=0.2)
+    assert abs(with_trend.slope[1]) < 0.01
+    assert np.all(np.abs(with_trend.shrunk - truth) <= 2.5 * with_trend.shrunk_sd)
+    constant = pool(estimates, v)
+    assert constant.tau > 0
+    edge = np.abs(constant.shrunk - truth)[:, [0, -1]].mean()
+    assert edge > np.abs(with_trend.shrunk - truth)[:, [0, -1]].mean()
+
+
+def test_no_trend_is_kept_on_one_value():
+    rng = np.random.default_rng(3)
+    kept = 0
+    for _ in range(100):
+        v = np.full((4, 4), 0.01)
+        kept += pool(rng.standard_normal((4, 4)) * 0.1, v, positions=_grid()).slope != (0, 0)
+    assert kept <= 5
+
+
+def test_angles_are_pooled_across_the_wrap():
+    """Lays near +-90 degrees are one direction: pooled near 90, not 0."""
+    v = np.full(6, 0.001)
+    estimates = wrap_angle(np.radians([88, 89, 90, 91, 92, 90]))
+    result = pool(estimates, v, angle=True)
+    assert abs(wrap_angle(result.mean - math.pi / 2)) < math.radians(1)
+    assert np.all(np.abs(wrap_angle(result.shrunk - math.pi / 2)) < math.radians(3))
+
+
+def test_regions_without_an_estimate_get_the_population():
+    estimates = np.array([1.0, 1.1, np.nan, 0.9])
+    v = np.array([0.01, 0.01, 0.01, 0.0])
+    result = pool(estimates, v)
+    assert result.n_regions == 2
+    assert result.shrunk[2] == pytest.approx(result.mean)
+    assert result.shrunk[3] == pytest.approx(result.mean)
+
+
+@pytest.mark.parametrize("kwargs, words", [
+    (dict(estimates=[1.0, np.nan], variances=[0.1, 0.1]), "at least 2 regions"),
+    (dict(estimates=[1.0, 2.0], variances=[0.1]), "one shape"),
+    (dict(estimates=[1.0, 2.0], variances=[0.1, 0.1], trend_level=0), "trend_level"),
+    (dict(estimates=[1.0, 2.0], variances=[0.1, 0.1], positions=np.zeros((3, 2))),
+     "positions must have shape (2, 2)"),
+])
+def test_bad_input_is_refused(kwargs, words):
+    with pytest.raises(ValueError) as error:
+        pool(**kwargs)
+    assert words in str(error.value)
