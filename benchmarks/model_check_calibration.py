@@ -7,12 +7,16 @@ simulations (default 99): the first 19 make the plain check, all of them the
 Rao-Blackwellised share and the ranks' uniformity test (roughgp.checking.ranks).
 Each case's record (the ranks, not the simulations) is appended to
 ``benchmarks/results/model_check_calibration_<size>.jsonl`` as it comes (a case already there is
-skipped, so a long run can be resumed or split into parts with ``--first``/``--cases`` and
-``--out``), and ``--report`` writes the Markdown table
+skipped, so a long run can be resumed). The cases run on the Dask engine of ``roughgp batch``
+(:func:`roughgp.batch.engine.run_cases`): ``--workers N`` local processes (default: the cores)
+or ``--scheduler ADDRESS`` an existing cluster, so a ``ROUGHGP_FULL``-sized run scales with the
+workers given instead of being split by hand into ``--out`` parts; ``--verify N`` reruns the
+first N cases and compares them with the recorded ones. ``--report`` writes the Markdown table
 ``benchmarks/results/model_check_calibration_<size>.md`` from all records (the first 50 cases,
 the number the issue asks for, and all of them) and prints it. Not a test: run it by hand,
 
-    OMP_NUM_THREADS=1 python benchmarks/model_check_calibration.py --cases 200
+    OMP_NUM_THREADS=1 python benchmarks/model_check_calibration.py --cases 200 --workers 2
+    python benchmarks/model_check_calibration.py --verify 50     # the recorded cases again
     python benchmarks/model_check_calibration.py --report
 
 ``--bootstrap B`` runs the calibrated check instead
@@ -57,16 +61,45 @@ def _default_path(size, suffix, bootstrap=None):
     return RESULTS / f"model_check_{kind}_{size}.{suffix}"
 
 
-def _case(args, index) -> tuple[dict, str]:
-    """One synthetic measurement's record and what to print of it."""
-    if args.bootstrap:
-        record = mc.bootstrap_case(index, shape=(args.size, args.size),
-                                   n_bootstrap=args.bootstrap, seed=args.seed)
-        return record, f"plain {record['plain_outside']}, calibrated {record['outside']}"
-    cal = mc.calibrate(1, shape=(args.size, args.size), n_draws=args.draws, seed=args.seed,
-                       first=index)
-    record = cal.to_records()[0]
-    return record, f"outside (fitted) {list(record['ranks_fitted']['outside'])}"
+def _case(bootstrap, size, draws, seed, index) -> tuple[dict, str]:
+    """One synthetic measurement's record (with its ``case_seconds``) and what to print of it:
+    the same whatever worker runs it (its draws are seeded by ``seed`` and ``index``)."""
+    start = time.perf_counter()
+    if bootstrap:
+        record = mc.bootstrap_case(index, shape=(size, size), n_bootstrap=bootstrap, seed=seed)
+        said = f"plain {record['plain_outside']}, calibrated {record['outside']}"
+    else:
+        cal = mc.calibrate(1, shape=(size, size), n_draws=draws, seed=seed, first=index)
+        record = cal.to_records()[0]
+        said = f"outside (fitted) {list(record['ranks_fitted']['outside'])}"
+    record["case_seconds"] = time.perf_counter() - start
+    return record, said
+
+
+def _through_the_engine(args, indices, out) -> None:
+    """The cases ``indices`` on the Dask engine of ``roughgp batch``
+    (:func:`roughgp.batch.engine.run_cases`: ``--workers`` local processes or ``--scheduler``),
+    each record appended to ``out`` as its case ends (whole lines: a rerun skips them)."""
+    from roughgp.batch.engine import run_cases
+    cases = [(index, (args.bootstrap, args.size, args.draws, args.seed, index),
+              f"model-check-case-{args.size}-{args.seed}-{args.bootstrap}-{index}")
+             for index in indices]
+
+    def started(link, workers):
+        print(f"{len(cases)} cases on {workers} Dask worker{'s' * (workers != 1)}"
+              + (f" (dashboard {link})" if link else ""), flush=True)
+
+    def on_result(index, result):
+        if isinstance(result, BaseException):
+            print(f"case {index}: FAILED: {type(result).__name__}: {result}", flush=True)
+            return
+        record, said = result
+        with out.open("a", encoding="utf-8") as stream:
+            stream.write(json.dumps(record) + "\n")
+        print(f"case {index}: {record['case_seconds']:.1f} s; {said}", flush=True)
+
+    run_cases(_case, cases, workers=args.workers, scheduler=args.scheduler, started=started,
+              on_result=on_result)
 
 
 def run(args) -> None:
@@ -74,19 +107,40 @@ def run(args) -> None:
     done = set()
     if out.exists():
         done = {r["index"] for r in _read(out)}
-    for index in range(args.first, args.first + args.cases):
-        if index in done:
-            continue
-        start = time.perf_counter()
-        record, said = _case(args, index)
-        record["case_seconds"] = time.perf_counter() - start
-        with out.open("a", encoding="utf-8") as stream:
-            stream.write(json.dumps(record) + "\n")
-        print(f"case {index}: {record['case_seconds']:.1f} s; {said}", flush=True)
+    indices = [i for i in range(args.first, args.first + args.cases) if i not in done]
+    _through_the_engine(args, indices, out)
+
+
+#: what differs from run to run in a record: the timings (and the mark of a recheck)
+_VARYING = ("case_seconds", "fit_seconds", "rechecked")
+
+
+def _comparable(record) -> dict:
+    return {k: v for k, v in record.items() if k not in _VARYING and not k.endswith("_seconds")}
+
+
+def verify(args) -> None:
+    """Run the first ``--verify N`` cases through the engine into a temporary file and compare
+    them with the recorded ones, key for key (the timings aside)."""
+    import tempfile
+    recorded = {r["index"]: r for r in _read(_default_path(args.size, "jsonl",
+                                                           args.bootstrap))}
+    with tempfile.TemporaryDirectory() as folder:
+        out = Path(folder) / "again.jsonl"
+        _through_the_engine(args, list(range(args.verify)), out)
+        again = _read(out)
+    same = [r["index"] for r in again if _comparable(r) == _comparable(recorded[r["index"]])]
+    differ = sorted(set(range(args.verify)) - set(same))
+    print(f"{len(same)} of {args.verify} cases identical to the recorded ones (timings aside)"
+          + (f"; differ: {differ}" if differ else ""))
+    if differ:
+        raise SystemExit(1)
 
 
 def _read(path) -> list:
-    return [json.loads(line) for line in Path(path).read_text().splitlines() if line]
+    """The records of a JSONL file, by case index (the engine appends them as they end)."""
+    records = [json.loads(line) for line in Path(path).read_text().splitlines() if line]
+    return sorted(records, key=lambda r: r["index"])
 
 
 def recheck(args) -> None:
@@ -243,6 +297,12 @@ def main(argv=None) -> None:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--out", help="JSONL file to append to (default results/...)")
     parser.add_argument("--report", action="store_true", help="write the table from the records")
+    parser.add_argument("--workers", type=int, default=None,
+                        help="local Dask worker processes (default: the cores)")
+    parser.add_argument("--scheduler", metavar="ADDRESS",
+                        help="an existing Dask scheduler instead of a local cluster")
+    parser.add_argument("--verify", type=int, metavar="N",
+                        help="rerun the first N cases and compare them with the recorded ones")
     parser.add_argument("--recheck", nargs="+", metavar="NAME",
                         help="count these parameters' ranks again on the recorded cases")
     parser.add_argument("--merge", nargs="+", metavar="PART",
@@ -250,6 +310,8 @@ def main(argv=None) -> None:
     args = parser.parse_args(argv)
     if args.report:
         report(args)
+    elif args.verify:
+        verify(args)
     elif args.recheck:
         recheck(args)
     elif args.merge:

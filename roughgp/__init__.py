@@ -38,6 +38,8 @@ no module imports another round a circle):
   model file;
 * :mod:`roughgp.checking`: the model check, its ranks, the calibrated check;
 * :mod:`roughgp.api`: the verbs above;
+* :mod:`roughgp.batch`: many files through the commands' steps on a Dask cluster, one table
+  (``roughgp batch``);
 * :mod:`roughgp.experiments`: the paper's experiments, one function per claim's computation,
   shared by the chapters and the ledger;
 * :mod:`roughgp.ledger`: the claims ledger (one check per claim of the paper);

@@ -11,8 +11,8 @@ ROOT = Path(__file__).resolve().parents[1] / "roughgp"
 
 #: The groups bottom up: a module may import its own group and the groups before it.
 LAYERS = ("common", "gp", "sampling", "io", "metrology", "models", "non_gaussian", "targets",
-          "inference", "filling", "surface_models", "checking", "api", "experiments", "ledger",
-          "cli")
+          "inference", "filling", "surface_models", "checking", "api", "batch", "experiments",
+          "ledger", "cli")
 
 
 def _modules():

@@ -52,6 +52,7 @@ BOUNDS = {
     "--calibrate": Bound(1, 99),
     "--predictive": Bound(1, 99),
     "--samples": Bound(2, 256),
+    "--workers": Bound(1, 256),
 }
 
 

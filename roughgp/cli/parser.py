@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import argparse
 
-from roughgp.cli import check, fill, fit, reproduce, simulate, texture
+from roughgp.cli import batch, check, fill, fit, reproduce, simulate, texture
 from roughgp.cli.bounds import bounds_text, integer
 from roughgp.cli.output import WIDTH
 from roughgp.io.measurement import READ_FORMATS
@@ -28,8 +28,10 @@ examples:
   roughgp check land.json land.x3p --plot check.png      the measurement among simulations
   roughgp texture ground.x3p                   ISO 25178-2 parameters (Sq, Ssk, Sal, ...)
   roughgp fill measured.x3p --out filled.x3p   missing (NaN) points filled by the GP
+  roughgp batch data/ --out batch/             texture, fit, check of many files (Dask)
 
-exit codes: 0 success, 1 a claim regressed (reproduce), 2 a usage or input error."""
+exit codes: 0 success, 1 a claim regressed (reproduce), 2 a usage or input error, 10 + N
+when N files failed (batch)."""
 
 
 _INPUT = f"""\
@@ -97,4 +99,5 @@ def build_parser() -> argparse.ArgumentParser:
     texture.add_parser(sub, formatter, _INPUT, add_input_options)
     check.add_parser(sub, formatter, _INPUT, add_input_options)
     fill.add_parser(sub, formatter, _INPUT, add_input_options)
+    batch.add_parser(sub, formatter)
     return parser

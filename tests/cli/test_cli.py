@@ -52,11 +52,11 @@ def _read_back(path):
 def test_help_mentions_every_command(capsys):
     code, out, _ = _run(capsys, "--help")
     assert code == 0
-    for command in ("reproduce", "simulate", "fit", "texture", "check", "fill", "um"):
+    for command in ("reproduce", "simulate", "fit", "texture", "check", "fill", "batch", "um"):
         assert command in out
     for argv in (["reproduce"], ["simulate"], ["simulate", "ground"], ["simulate", "honed"],
                  ["simulate", "turned"], ["fit"], ["fit", "profile"], ["fit", "ground"],
-                 ["texture"], ["check"], ["fill"]):
+                 ["texture"], ["check"], ["fill"], ["batch"]):
         code, out, _ = _run(capsys, *argv, "--help")
         assert code == 0, argv
         assert "example" in out and "roughgp" in out, argv
