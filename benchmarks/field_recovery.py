@@ -4,8 +4,9 @@ on synthetic 256 x 256 maps of four kinds (issue 40, items 3 and 4).
 
 Each case is appended to ``benchmarks/results/field_recovery.jsonl`` as it comes (a case
 already there is skipped: a run can be resumed); ``--report`` writes the Markdown table
-``benchmarks/results/field_recovery.md`` and prints it. The cases run on a
-``dask.distributed`` local cluster, one BLAS thread per worker. Not a test: run it by hand,
+``benchmarks/results/field_recovery.md`` and prints it. The cases run on the project's engine
+(:func:`roughgp.batch.engine.run_cases`: a local Dask cluster, one BLAS thread per worker, or
+``--scheduler ADDRESS``). Not a test: run it by hand,
 
     python benchmarks/field_recovery.py --cases 10 --workers 2   # 10 of each kind
     python benchmarks/field_recovery.py --report
@@ -18,6 +19,7 @@ import datetime
 import json
 from pathlib import Path
 
+from roughgp.batch.engine import run_cases
 from roughgp.common.atomic import atomic_output
 from roughgp.experiments.field_recovery import KINDS, RECORDED, load_records, recovery_table
 
@@ -36,7 +38,10 @@ def main(argv=None) -> int:
     parser.add_argument("--kinds", nargs="+", choices=KINDS, default=None,
                         help="kinds (default: all)")
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--workers", type=int, default=None,
+                        help="local worker processes (default: the cores)")
+    parser.add_argument("--scheduler", default=None,
+                        help="the address of an existing Dask scheduler (instead of --workers)")
     parser.add_argument("--out", type=Path, default=RECORDED)
     parser.add_argument("--report", action="store_true", help="write and print the table")
     args = parser.parse_args(argv)
@@ -56,17 +61,21 @@ def main(argv=None) -> int:
     todo = [(kind, i) for i in range(args.cases) for kind in (args.kinds or KINDS)
             if (kind, i, args.seed) not in done]
     print(f"{len(todo)} case(s) to run, {len(done)} recorded")
-    from dask.distributed import Client, LocalCluster, as_completed
-    with LocalCluster(n_workers=args.workers, threads_per_worker=1, processes=True,
-                      dashboard_address=None) as cluster, Client(cluster) as client:
-        futures = [client.submit(_run_case, kind, i, args.seed, pure=False) for kind, i in todo]
-        args.out.parent.mkdir(parents=True, exist_ok=True)
-        for n, future in enumerate(as_completed(futures), 1):
-            record = future.result()
-            with open(args.out, "a") as handle:
-                handle.write(json.dumps(record) + "\n")
-            print(f"[{n}/{len(todo)}] {record['kind']} {record['index']}: covered "
-                  f"{record['covered']} ({record['seconds']:.0f} s)", flush=True)
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    count = iter(range(1, len(todo) + 1))
+
+    def record(key, result):
+        if isinstance(result, BaseException):
+            print(f"{key}: failed: {result!r}", flush=True)
+            return
+        with open(args.out, "a") as handle:
+            handle.write(json.dumps(result) + "\n")
+        print(f"[{next(count)}/{len(todo)}] {key}: covered {result['covered']} "
+              f"({result['seconds']:.0f} s)", flush=True)
+
+    run_cases(_run_case, [(f"{kind} {i}", (kind, i, args.seed), f"field-{kind}-{i}")
+                          for kind, i in todo],
+              workers=args.workers, scheduler=args.scheduler, on_result=record)
     return 0
 
 

@@ -127,7 +127,7 @@ def test_fit_whittle_on_the_cpu_device_is_the_same_fit(capsys, left_fit, tmp_pat
 
 
 @pytest.mark.parametrize("extra, words", [
-    ((), "--device applies to --model eq18 with --likelihood whittle only"),
+    ((), "--device applies to --model eq18 with --likelihood whittle and to --model field"),
     (("--likelihood", "whittle", "--model", "matern"), "got --model matern"),
     (("--likelihood", "whittle", "--device", "gpu"), "--device must be None"),
 ])
