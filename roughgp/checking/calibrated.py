@@ -270,7 +270,7 @@ def calibrated_check(model: FittedModel, z, spacing=None, *, n_simulations=19, n
 def refusal(model: FittedModel) -> str | None:
     """Why :func:`refit_like` cannot refit ``model`` (module docstring), or None."""
     if model.kind != "surface" or model.equation not in RUNG_OF_EQUATION:
-        return (f"a {model.equation} model cannot be refitted: the calibrated check refits "
+        return (f"the {model.equation} model cannot be refitted: the calibrated check refits "
                 f"surface models ({', '.join(RUNG_OF_EQUATION)})")
     if model.stage != "form-removed":
         return (f"the calibrated check needs a model of stage 'form-removed' (its bootstrap "

@@ -58,8 +58,9 @@ def fitted_shape(model: FittedModel, default) -> tuple:
 def predictive_refusal(model: FittedModel) -> str | None:
     """Why ``model``'s fit cannot be bootstrapped, or None."""
     why = refusal(model)
-    return None if why is None else why.replace("the calibrated check", "the predictive "
-                                                "simulations")
+    return None if why is None else why.replace("the calibrated check refits",
+                                                "the predictive simulations refit").replace(
+        "the calibrated check", "the predictive simulations")
 
 
 def recentred(model: FittedModel, refits, centre="bias-corrected") -> tuple:

@@ -42,6 +42,7 @@ BOUNDS = {
     "--spacing": Bound(1e-6, 1e6, "um"),
     "--s-filter": Bound(1e-6, 1e6, "um"),
     "--l-filter": Bound(1e-6, 1e6, "um"),
+    "--feed": Bound(1e-6, 1e6, "um"),
     "--degree": Bound(1, 10),
     "--channel": Bound(0, 255),
     "--mixtures": Bound(1, 50),

@@ -94,6 +94,13 @@ simulations are then Johnson-transformed GPs, roughgp.non_gaussian).
           only as far as its fit is sure of it; a gradient is kept where a test finds one),
           interpolated between the tiles' centres; Gaussian heights; for a surface whose
           roughness or lay changes across the part (not among auto's choices);
+  periodic
+          a periodic machined surface (turned, milled, shaped, fly-cut) as a deterministic
+          feed mark plus Gaussian processes (roughgp.surface_models.periodic_model): the mark
+          folded at the feed (found, or --feed F um), each mark's shift and depth random from
+          mark to mark and along the lay, eq 18 on the rest by the Whittle likelihood; where
+          no direction holds a mark that repeats (the mark of one half of the map must
+          explain half of the other's variance) it says so and falls back to auto;
   auto    fits the four without 2 % of the measured points (held out in small discs),
           predicts those by kriging with each model's covariance, prints one line per model
           (held-out RMSE, seconds) and keeps the simplest within one standard error of the
@@ -147,10 +154,15 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                    help="smoothness: 0.5 is eq 18 (default); 1.5 or 2.5 its anisotropy with a "
                         "smoother Matern profile, for smooth surfaces (beyond the paper)")
     g.add_argument("--model", dest="rung",
-                   choices=("eq18", "matern", "sm", "psd", "field", "auto"),
+                   choices=("eq18", "matern", "sm", "psd", "field", "periodic", "auto"),
                    default="eq18", help="the model: eq18 (default), matern, sm (a 2-D spectral "
                    "mixture of up to 4 components, Q by BIC, for lays and periods), psd (the "
-                   "measured PSD) or auto (chosen by a held-out score; see above)")
+                   "measured PSD), field, periodic (a feed mark plus GPs) or auto (chosen by a "
+                   "held-out score; see above)")
+    g.add_argument("--feed", type=float, default=None, metavar="F",
+                   help=f"--model periodic: the feed in um when known, "
+                        f"{bounds_text('--feed')} and at most a quarter of the map (default: "
+                        f"found from the data)")
     g.add_argument("--marginal", choices=("gaussian", "johnson", "iaaft"), default=None,
                    help="the heights' distribution (default gaussian; --non-gaussian is "
                         "johnson)")
@@ -221,19 +233,22 @@ def _check_fit_device(args) -> None:
         if not all(1 <= a <= MAX_ANCHORS for a in anchors):
             raise UsageError(f"--anchors must be two integers in [1, {MAX_ANCHORS}], got "
                              f"{anchors[0]} {anchors[1]}")
-    if getattr(args, "rung", None) == "field":
+    if getattr(args, "feed", None) is not None and args.rung != "periodic":
+        raise UsageError(f"--feed applies to --model periodic only (got --model {args.rung})")
+    if getattr(args, "rung", None) in ("field", "periodic"):
         marginal = _marginal_choice(args)
         if marginal != "gaussian" or args.nu != 0.5:
-            raise UsageError(f"--model field draws Gaussian heights with eq 18's profile: leave "
-                             f"out --marginal {marginal} / --non-gaussian and --nu "
+            raise UsageError(f"--model {args.rung} draws Gaussian heights with eq 18's profile: "
+                             f"leave out --marginal {marginal} / --non-gaussian and --nu "
                              f"{args.nu:g}")
     if device is None:
         return
-    if args.rung == "field" or (args.rung == "eq18" and args.likelihood == "whittle"):
+    if args.rung in ("field", "periodic") or (args.rung == "eq18"
+                                             and args.likelihood == "whittle"):
         check_device(device)
         return
     raise UsageError(f"--device applies to --model eq18 with --likelihood whittle and to "
-                     f"--model field only (got --model {args.rung}, --likelihood "
+                     f"--model field or periodic only (got --model {args.rung}, --likelihood "
                      f"{args.likelihood}); leave --device out or add --likelihood whittle")
 
 
@@ -352,6 +367,32 @@ def _fit_field(args, heights, operators, data, z):
     return model
 
 
+def _fit_periodic(args, heights, operators, data, z):
+    """``fit ground --model periodic``: the feed mark plus GPs
+    (roughgp.surface_models.periodic_model), or None where the map holds no mark (the caller
+    falls back to the ladder)."""
+    from roughgp.surface_models.periodic_model import NoPeriodError, fit_periodic_model
+    try:
+        fitted = fit_periodic_model(z, heights.spacing, **operators, feed=args.feed, data=data,
+                                    device=args.device)
+    except NoPeriodError as exc:
+        print_wrapped(f"{args.file}: no periodic feed mark: {exc}; falling back to --model "
+                      f"auto (the stationary ladder)")
+        return None
+    except ValueError as exc:
+        raise UsageError(f"{args.file}: {exc}") from None
+    model = fitted.model
+    print_wrapped(f"fitted to {args.file}: {model.describe()}")
+    print_wrapped(f"operators: {'; '.join(model.operators)} (the model describes the heights "
+                  f"after the F-operator; the filters are applied to its simulations)")
+    how = model.fit
+    print_wrapped(f"  {how['marks']} whole marks; the mark of one half of the map explains "
+                  f"{how['mark_reproducibility']:.3f} of the other half's variance; the trace "
+                  f"explains {how['mark_explained']:.4f} of the mean profile's, the rest "
+                  f"({how['trace_misfit_um2']:.3g} um^2) is not drawn")
+    return model
+
+
 def _print_mixture(model):
     """The 2-D spectral mixture's components, one line each, and the BIC of each Q tried."""
     hp = model.hyperparameters
@@ -384,6 +425,11 @@ def _fit_ground(args, heights, operators, data):
         + ("eq 18 plus noise ..." if args.rung == "eq18" else f"--model {args.rung} ..."))
     if args.rung == "field":
         return _fit_field(args, heights, operators, data, z), found
+    if args.rung == "periodic":
+        model = _fit_periodic(args, heights, operators, data, z)
+        if model is not None:
+            return model, found
+        args.rung = "auto"
     if args.rung != "eq18":
         return _fit_rungs(args, heights, operators, data, z), found
     try:

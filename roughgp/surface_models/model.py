@@ -34,6 +34,9 @@ Equations:
   over frequencies ``frequency_min_per_um`` to ``frequency_max_per_um``, the nonparametric
   stationary Gaussian model (:mod:`roughgp.surface_models.measured_psd`); its noise is in the
   PSD (``noise_variance_um2`` 0), its ACVF the inverse DFT of the PSD;
+* ``"periodic-mark"``: a periodic machined surface, a deterministic feed mark with Gaussian
+  mark-to-mark shifts and depths, plus eq 18 and noise
+  (:mod:`roughgp.surface_models.periodic_model`);
 * ``"sm2d"``: a surface, a 2-D spectral mixture (eq 21's family in two dimensions, each
   component a pair of Gaussians at :math:`\pm\boldsymbol\mu_q` with a full covariance given
   by its bandwidths and axes' angle) plus Gaussian noise, for structured or periodic surfaces
@@ -90,8 +93,9 @@ class FittedModel:
     model (module docstring).
 
     Attributes:
-        equation: ``"eq18"``, ``"eq18-matern"``, ``"eq21"``, ``"measured-psd"``, ``"sm2d"``
-            or ``"eq18-field"`` (:mod:`roughgp.surface_models.field_model`).
+        equation: ``"eq18"``, ``"eq18-matern"``, ``"eq21"``, ``"measured-psd"``, ``"sm2d"``,
+            ``"eq18-field"`` (:mod:`roughgp.surface_models.field_model`) or
+            ``"periodic-mark"`` (:mod:`roughgp.surface_models.periodic_model`).
         hyperparameters: the names of :data:`EQUATIONS` (units in the names: um, um^2, deg,
             1/um); eq 21's are lists of Q values.
         spacing: the grid spacing of the data, ``(dy, dx)`` (surface) or ``(dx,)`` (profile), um.
@@ -142,6 +146,11 @@ class FittedModel:
             raise ValueError("the eq18-field model has no single kernel (its parameters vary "
                              "over the map): fill, the calibrated check and the predictive "
                              "draws need a stationary model (fit one with --model eq18)")
+        if self.equation == "periodic-mark":
+            raise ValueError("the periodic-mark model has no single kernel (a deterministic "
+                             "feed mark plus Gaussian processes): fill, the calibrated check "
+                             "and the predictive draws need a stationary model (fit one with "
+                             "--model eq18 or sm)")
         if self.equation == "measured-psd":
             from roughgp.surface_models.measured_psd import TabulatedACVF
             return TabulatedACVF(self)
@@ -176,6 +185,9 @@ class FittedModel:
             return band_variance(self)
         if self.equation == "eq18-field":  # the mean over the anchors
             return float(np.mean(hp["variance_um2"]))
+        if self.equation == "periodic-mark":  # the mark's, the depths' and the roughness's
+            return float(np.var(hp["mark_um"]) + hp["depth_sd_um"] ** 2 + hp["lay_sd_um"] ** 2
+                         + hp["variance_um2"])
         if self.kind == "surface" and self.equation != "sm2d":
             return float(hp["variance_um2"])
         return float(np.sum(hp["weights_um2"]))
@@ -205,6 +217,16 @@ class FittedModel:
                                                         ("lambda_b", "lambda_b_um", " um"),
                                                         ("angle", "angle_deg", " deg")))
             text = f"eq 18 with parameter fields on {rows} x {cols} anchors: {ranges}"
+        elif self.equation == "periodic-mark":
+            mark = np.asarray(hp["mark_um"])
+            text = (f"periodic mark: feed {hp['feed_um']:.5g} um along "
+                    f"{'x' if hp['feed_direction_deg'] == 0 else 'y'}, mark height "
+                    f"{np.ptp(mark):.4g} um; per mark a shift of sd {hp['shift_sd_um']:.3g} um "
+                    f"(rho {hp['shift_rho']:.2f}) and a depth of sd {hp['depth_sd_um']:.3g} um "
+                    f"(rho {hp['depth_rho']:.2f}), varying along the lay by sd "
+                    f"{hp['lay_sd_um']:.3g} um over {hp['depth_length_um']:.4g} um; roughness eq 18: variance {hp['variance_um2']:.4g} um^2, lambda_a "
+                    f"{hp['lambda_a_um']:.4g} um, lambda_b {hp['lambda_b_um']:.4g} um, angle "
+                    f"{hp['angle_deg']:.1f} deg")
         elif self.kind == "surface":
             name = "eq 18" if self.equation == "eq18" else f"eq 18 with Matern nu = {hp['nu']:g}"
             text = (f"{name}: variance {hp['variance_um2']:.4g} um^2, lambda_a "
@@ -251,6 +273,10 @@ class FittedModel:
         if self.equation == "eq18-field":
             from roughgp.surface_models.field_draw import draw_field_model
             return self._returned(draw_field_model(self, shape, spacing, rng, count), n_samples)
+        if self.equation == "periodic-mark":
+            from roughgp.surface_models.periodic_draw import draw_periodic_model
+            return self._returned(draw_periodic_model(self, shape, spacing, rng, count),
+                                  n_samples)
         if self.equation == "sm2d":
             from roughgp.surface_models.spectral_mixture import Mixture2D, check_embeddable
             check_embeddable(Mixture2D.from_hyperparameters(self.hyperparameters), shape,

@@ -18,6 +18,7 @@ import math
 __all__ = ["ModelFileError", "MODEL_FORMAT", "MODEL_VERSIONS", "STAGES", "EQUATIONS", "RANGES",
            "MAX_DEPTH", "MAX_FILE_BYTES", "MAX_MIXTURES", "MAX_SM2D_COMPONENTS",
            "SM2D_BANDWIDTHS", "FORMS", "AXES", "MAX_ANCHORS", "FIELD_NAMES", "FIT_INTEGERS",
+           "FEED_DIRECTIONS", "MARK_SAMPLES",
            "FIT_LIKELIHOODS", "validate_record", "check_fields", "check_fit"]
 
 MODEL_FORMAT = "roughgp-model"
@@ -42,7 +43,18 @@ EQUATIONS = {
     # between them (roughgp.surface_models.field_model)
     "eq18-field": ("surface", ("anchors_x_um", "anchors_y_um", "variance_um2", "lambda_a_um",
                                "lambda_b_um", "angle_deg", "noise_variance_um2")),
+    # a periodic machined surface: a deterministic feed mark, each mark's shift and depth as
+    # Gaussian processes over the marks (and along the lay), eq 18 on top
+    # (roughgp.surface_models.periodic_model)
+    "periodic-mark": ("surface", ("feed_um", "feed_direction_deg", "origin_um", "mark_um",
+                                  "shift_sd_um", "shift_rho", "depth_sd_um", "depth_rho",
+                                  "lay_sd_um", "depth_length_um", "variance_um2", "lambda_a_um",
+                                  "lambda_b_um", "angle_deg", "noise_variance_um2")),
 }
+#: the periodic-mark model's directions of the feed (the marks repeat along x: 0, along y: 90)
+FEED_DIRECTIONS = (0, 90)
+#: the periodic-mark model's fewest and most samples of the mark
+MARK_SAMPLES = (4, 8192)
 #: the parameter fields' most anchors per axis
 MAX_ANCHORS = 32
 #: the fields of the eq18-field model, each a list of rows (anchors_y) of anchors_x values
@@ -100,6 +112,15 @@ RANGES = {
     "axes_deg": (-360.0, 360.0, True),
     "anchors_x_um": (-1e9, 1e9, True),
     "anchors_y_um": (-1e9, 1e9, True),
+    "feed_um": (0.0, 1e9, False),
+    "origin_um": (0.0, 1e9, True),
+    "mark_um": (-1e9, 1e9, True),
+    "shift_sd_um": (0.0, 1e9, True),
+    "shift_rho": (0.0, 0.99, True),
+    "depth_sd_um": (0.0, 1e9, True),
+    "depth_rho": (0.0, 0.99, True),
+    "lay_sd_um": (0.0, 1e9, True),
+    "depth_length_um": (0.0, 1e9, False),
 }
 _TOP = {"format", "version", "equation", "kind", "stage", "description", "hyperparameters",
         "spacing_um", "marginal", "operators", "cutoffs", "data", "fit", "roughgp_version"}
@@ -186,7 +207,12 @@ def check_fields(equation, hyperparameters, spacing, marginal, cutoffs, stage, o
         if marginal is not None:
             raise ModelFileError("the eq18-field model draws Gaussian heights: its marginal "
                                  "must be null")
-    elif kind == "surface":
+    elif equation == "periodic-mark":
+        _check_periodic(hp, spacing)
+        if marginal is not None:
+            raise ModelFileError("the periodic-mark model draws its roughness with Gaussian "
+                                 "heights: its marginal must be null")
+    if kind == "surface" and equation not in ("measured-psd", "sm2d", "eq18-field"):
         for name in ("variance_um2", "lambda_a_um", "lambda_b_um", "angle_deg"):
             number(name, hp[name])
         for name in ("lambda_a_um", "lambda_b_um"):
@@ -196,7 +222,7 @@ def check_fields(equation, hyperparameters, spacing, marginal, cutoffs, stage, o
                                      f"got {hp[name]!r}")
         if equation == "eq18-matern" and (not _is_number(hp["nu"]) or hp["nu"] not in (1.5, 2.5)):
             raise ModelFileError(f"nu must be 1.5 or 2.5 (0.5 is eq 18), got {hp['nu']!r}")
-    else:
+    elif kind == "profile":
         lists = [_numbers(n, hp[n], count=range(1, MAX_MIXTURES + 1)) for n in names[:3]]
         if len({len(v) for v in lists}) != 1:
             raise ModelFileError("weights_um2, frequencies_per_um and "
@@ -304,6 +330,35 @@ def _check_field(hp, spacing):
                     raise ModelFileError(f"{name}[{i}][{j}] must be within [1e-3, 1e7] spacings "
                                          f"([{1e-3 * min(spacing):g}, {1e7 * max(spacing):g}] "
                                          f"um), got {value!r}")
+
+
+def _check_periodic(hp, spacing):
+    """The periodic-mark model: the feed along x or y (:data:`FEED_DIRECTIONS`), at least
+    ``MARK_SAMPLES[0]`` spacings of that axis; the mark ``MARK_SAMPLES`` heights; the origin
+    within one feed; shifts of at most a quarter feed; correlations in [0, 0.99]."""
+    direction = hp["feed_direction_deg"]
+    if not _is_number(direction) or direction not in FEED_DIRECTIONS:
+        raise ModelFileError(f"feed_direction_deg must be 0 (the marks repeat along x) or 90 "
+                             f"(along y), got {direction!r}")
+    step = spacing[1] if direction == 0 else spacing[0]
+    feed = number("feed_um", hp["feed_um"])
+    if not feed >= MARK_SAMPLES[0] * step:
+        raise ModelFileError(f"feed_um must be at least {MARK_SAMPLES[0]} spacings "
+                             f"({MARK_SAMPLES[0] * step:g} um) along the feed, got {feed!r}")
+    mark = hp["mark_um"]
+    if not isinstance(mark, list) or not MARK_SAMPLES[0] <= len(mark) <= MARK_SAMPLES[1]:
+        raise ModelFileError(f"mark_um must be a list of {MARK_SAMPLES[0]} to {MARK_SAMPLES[1]} "
+                             f"heights (um), got {type(mark).__name__}"
+                             + (f" of {len(mark)}" if isinstance(mark, list) else ""))
+    _numbers("mark_um", mark)
+    if not number("origin_um", hp["origin_um"]) < feed:
+        raise ModelFileError(f"origin_um must be in [0, feed_um = {feed:g}), got "
+                             f"{hp['origin_um']!r}")
+    if not number("shift_sd_um", hp["shift_sd_um"]) <= feed / 4:
+        raise ModelFileError(f"shift_sd_um must be in [0, feed_um / 4 = {feed / 4:g}], got "
+                             f"{hp['shift_sd_um']!r}")
+    for name in ("shift_rho", "depth_sd_um", "depth_rho", "lay_sd_um", "depth_length_um"):
+        number(name, hp[name])
 
 
 def _check_sm2d(hp, spacing):
