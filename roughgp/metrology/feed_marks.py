@@ -26,7 +26,12 @@ shift and sunk by its depth, :math:`\mu(x) = \min_k \big[\tilde m(x - x_0 - (k -
 :mod:`roughgp.models.turned`): the mark's highest point is where two copies meet, and a copy
 moved away from its neighbour leaves a higher cusp. :math:`\tilde m` is the mark continued
 beyond its feed along its flanks (:meth:`FeedMarks.extended_mark`). With no shifts and depths
-the envelope is the mark repeated.
+the envelope is the mark repeated. The fold averages cusps that lie at slightly different
+places (the marks' shifts and depths move them) into a rounded, lower top; where the mark's
+flanks are convex near its ends (a tool's arcs meeting at a cusp), the last thirty-second of
+the feed at either end is continued from the flank instead (a quadratic fitted from a
+thirty-second to an eighth of the feed from the end), so that the envelope makes the cusps
+sharp again; a concave end (a rounded crest) is kept as folded.
 
 Whether the profile holds a mark at all is measured, not assumed, out of sample: the period
 and the mark found on one half of the profile must explain at least :data:`REPRODUCIBLE` of the
@@ -112,22 +117,32 @@ class FeedMarks:
         pos = (x - self.origin - np.interp(x, self.centres, shifts)) / self.feed + 1.0
         return np.clip(np.floor(pos).astype(int), 0, shifts.size - 1)
 
+    @property
+    def height(self) -> float:
+        """The height of the mark as its copies leave it (the peak-to-valley height of the
+        mark repeated, the envelope's cusps included; the mark's own samples may reach higher
+        at its continued ends)."""
+        u = np.arange(2 * self.mark.size) * self.feed / self.mark.size
+        zeros = np.zeros(4)
+        repeated = dataclasses.replace(self, origin=0.0, shifts=zeros, depths=zeros)
+        return float(np.ptp(repeated.profile(u + self.feed / 2)))
+
     def extended_mark(self, u) -> np.ndarray:
         """The mark at phases ``u`` of one copy (um, not taken modulo the feed): the mark on
-        ``[0, P)``, continued beyond either end along the line through its last
-        :data:`EDGE_SAMPLES` samples there, upward only (the tool's flank, or flat where the
-        mark ends flat)."""
+        ``[0, P - P/n)`` (its samples), continued beyond its first and its last sample along
+        the line through its :data:`EDGE_SAMPLES` samples there, upward only (the tool's flank,
+        or flat where the mark ends flat)."""
         u = np.asarray(u, dtype=np.float64)
         n, step = self.mark.size, self.feed / self.mark.size
         q = min(EDGE_SAMPLES, n // 2)
-        top = self.mark[0]
-        # the slopes towards the ends: last q samples and the end value at u = P (= mark[0])
-        rise_end = max(0.0, (top - self.mark[n - q]) / (q * step))
-        rise_start = max(0.0, (top - self.mark[q]) / (q * step))
+        last = self.feed - step
+        # the slopes towards the ends, over the last q samples at either end
+        rise_end = max(0.0, (self.mark[n - 1] - self.mark[n - 1 - q]) / (q * step))
+        rise_start = max(0.0, (self.mark[0] - self.mark[q]) / (q * step))
         inside = self.mark_at(u)
-        before = top + rise_start * (-u)
-        after = top + rise_end * (u - self.feed)
-        return np.where(u < 0, before, np.where(u >= self.feed, after, inside))
+        before = self.mark[0] + rise_start * (-u)
+        after = self.mark[n - 1] + rise_end * (u - last)
+        return np.where(u < 0, before, np.where(u >= last, after, inside))
 
     def profile(self, x, shifts=None, depths=None) -> np.ndarray:
         r""":math:`\mu(x)` at positions ``x`` (um from the profile's first point), with these
@@ -224,6 +239,25 @@ def _folded_mark(x, p, marks: FeedMarks, shifts, depths, n_bins):
     return _fold(phase, p - depths[k], n_bins)
 
 
+def _sharpened(mark):
+    """The mark with its ends continued from its flanks where they are convex (a cusp the fold
+    rounded: module docstring): the samples within a thirty-second of the feed of either end
+    replaced by the quadratic fitted to the flank from a thirty-second to an eighth of the feed
+    from that end."""
+    n = mark.size
+    near, far = max(1, round(n / 32)), max(round(n / 32) + 3, round(n / 8))
+    if far >= n // 2:
+        return mark
+    out = mark.copy()
+    j = np.arange(n, dtype=np.float64)
+    for flank, end in ((np.arange(n - far, n - near), np.arange(n - near, n)),
+                       (np.arange(near, far), np.arange(0, near))):
+        quadratic = np.polyfit(j[flank], mark[flank], 2)
+        if quadratic[0] >= 0:       # convex: the rounded top of a cusp; concave ends are kept
+            out[end] = np.polyval(quadratic, j[end])
+    return out
+
+
 def _held_out_share(x, p, valid, spacing, feed):
     """The least share of one half's variance that the mark found on the other half (its
     period and its fold, at the same phase) explains, over both ways round."""
@@ -287,7 +321,7 @@ def feed_marks(profile, spacing=1.0, *, feed=None) -> FeedMarks:
                       zeros, zeros, 0.0, 0.0)
     for _ in range(2):
         shifts, depths = _align(x, p, marks, spacing)
-        mark = _folded_mark(x, p, marks, shifts, depths, n_bins)
+        mark = _sharpened(_folded_mark(x, p, marks, shifts, depths, n_bins))
         marks = dataclasses.replace(marks, mark=mark - mark.mean(), shifts=shifts,
                                     depths=depths)
     reproducibility = _held_out_share(x_all, filled, valid, spacing, feed)

@@ -218,10 +218,10 @@ class FittedModel:
                                                         ("angle", "angle_deg", " deg")))
             text = f"eq 18 with parameter fields on {rows} x {cols} anchors: {ranges}"
         elif self.equation == "periodic-mark":
-            mark = np.asarray(hp["mark_um"])
+            from roughgp.surface_models.periodic_draw import mark_of
             text = (f"periodic mark: feed {hp['feed_um']:.5g} um along "
                     f"{'x' if hp['feed_direction_deg'] == 0 else 'y'}, mark height "
-                    f"{np.ptp(mark):.4g} um; per mark a shift of sd {hp['shift_sd_um']:.3g} um "
+                    f"{mark_of(self).height:.4g} um; per mark a shift of sd {hp['shift_sd_um']:.3g} um "
                     f"(rho {hp['shift_rho']:.2f}) and a depth of sd {hp['depth_sd_um']:.3g} um "
                     f"(rho {hp['depth_rho']:.2f}), varying along the lay by sd "
                     f"{hp['lay_sd_um']:.3g} um over {hp['depth_length_um']:.4g} um; roughness eq 18: variance {hp['variance_um2']:.4g} um^2, lambda_a "

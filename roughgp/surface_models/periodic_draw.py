@@ -3,6 +3,7 @@ r"""Draws of the ``periodic-mark`` model (:mod:`roughgp.surface_models.periodic_
 A draw of ``shape`` is built in the frame where the marks repeat along x (the model's
 ``feed_direction_deg`` 90 transposes it):
 
+0. the spreads of the shifts and of the depths, from their posterior (:func:`spread_draw`);
 1. the marks' shifts :math:`s_k`, a stationary Gaussian AR(1) sequence over the mark index
    :math:`k` (standard deviation ``shift_sd_um``, lag-one correlation ``shift_rho``: an
    exponential covariance over the marks, the hierarchical layer of section 3.4's remedy);
@@ -28,7 +29,8 @@ import numpy as np
 
 from roughgp.metrology.feed_marks import FeedMarks
 
-__all__ = ["mark_of", "ar1", "lay_field", "draw_periodic_model", "roughness_model"]
+__all__ = ["mark_of", "ar1", "lay_field", "spread_draw", "ar1_across", "draw_periodic_model",
+           "roughness_model"]
 
 _MAX_LAY_POINTS = 1 << 16
 
@@ -88,8 +90,10 @@ def draw_periodic_model(model, shape, spacing, rng, count) -> np.ndarray:
     x = np.arange(nx) * dx
     traces = np.empty((count, ny, nx))
     for i in range(count):
-        shifts = ar1(n_marks, hp["shift_sd_um"], hp["shift_rho"], rng)
-        level = ar1(n_marks, hp["depth_sd_um"], hp["depth_rho"], rng)
+        shift_sd = spread_draw(hp["shift_sd_um"], hp["marks_fitted"], rng)
+        depth_sd = spread_draw(hp["depth_sd_um"], hp["marks_fitted"], rng)
+        shifts = ar1(n_marks, min(shift_sd, feed / 4), hp["shift_rho"], rng)
+        level = ar1(n_marks, depth_sd, hp["depth_rho"], rng)
         along = (np.zeros((n_marks, ny)) if ny == 1 or hp["lay_sd_um"] == 0 else
                  hp["lay_sd_um"] * lay_field(n_marks, ny, dy, hp["depth_length_um"], rng))
         drawn = dataclasses.replace(marks, shifts=shifts, depths=level)
@@ -99,6 +103,16 @@ def draw_periodic_model(model, shape, spacing, rng, count) -> np.ndarray:
     roughness = roughness_model(model).simulate(shape, spacing=spacing, n_samples=count,
                                                 seed=rng)
     return float(hp.get("mean_um", 0.0)) + traces + roughness
+
+
+def spread_draw(sd, n, rng) -> float:
+    r"""A standard deviation drawn from its posterior given ``sd``, the spread (about their
+    mean) of ``n`` values: :math:`\sigma^2 = n\,\mathrm{sd}^2 / \chi^2_{n-1}` (a normal
+    sample under the scale-invariant prior :math:`p(\sigma) \propto 1/\sigma`), so that draws
+    carry how little ``n`` marks say of it."""
+    if sd == 0:
+        return 0.0
+    return float(sd * math.sqrt(n / rng.chisquare(n - 1)))
 
 
 def ar1_across(lay, rho) -> np.ndarray:

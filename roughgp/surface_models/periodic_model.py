@@ -19,7 +19,10 @@ roughness. This model has three layers:
    per-mark estimates (shifts from the mean profile, depths row by row,
    :func:`~roughgp.metrology.feed_marks.row_depths`: :math:`a_k` their mean over the rows,
    :math:`b_k` the rest), over the marks that lie wholly in the map; :math:`\ell` is the lag
-   at which the correlation of :math:`b_k` along the lay falls to :math:`e^{-1}`;
+   at which the correlation of :math:`b_k` along the lay falls to :math:`e^{-1}`. A map holds
+   few marks (eight on the chapter's turned surface), so the two spreads are uncertain: each
+   draw takes its own, from their posterior given the ``marks_fitted`` marks
+   (:func:`~roughgp.surface_models.periodic_draw.spread_draw`);
 3. **the roughness on top**: eq 18 plus noise (eq 8) fitted by the debiased Whittle likelihood
    (:func:`~roughgp.inference.whittle_fit.fit_whittle`) to the residual, the map less the
    fitted trace, on a central crop of at most :data:`RESIDUAL_POINTS` points (the residual is
@@ -192,6 +195,7 @@ def fit_periodic_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2
              "depth_rho": lag_one(level),
              "lay_sd_um": float(np.nanstd(along)) if h.shape[0] > 1 else 0.0,
              "depth_length_um": lay_length(along, lay_step),
+             "marks_fitted": int(whole.sum()),
              "variance_um2": float(g.variance), "lambda_a_um": float(g.lengthscales[0]),
              "lambda_b_um": float(g.lengthscales[1]),
              "angle_deg": float((angle + 90.0) % 180.0 - 90.0),

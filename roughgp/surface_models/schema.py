@@ -48,7 +48,7 @@ EQUATIONS = {
     # (roughgp.surface_models.periodic_model)
     "periodic-mark": ("surface", ("feed_um", "feed_direction_deg", "origin_um", "mark_um",
                                   "shift_sd_um", "shift_rho", "depth_sd_um", "depth_rho",
-                                  "lay_sd_um", "depth_length_um", "variance_um2", "lambda_a_um",
+                                  "lay_sd_um", "depth_length_um", "marks_fitted", "variance_um2", "lambda_a_um",
                                   "lambda_b_um", "angle_deg", "noise_variance_um2")),
 }
 #: the periodic-mark model's directions of the feed (the marks repeat along x: 0, along y: 90)
@@ -359,6 +359,10 @@ def _check_periodic(hp, spacing):
                              f"{hp['shift_sd_um']!r}")
     for name in ("shift_rho", "depth_sd_um", "depth_rho", "lay_sd_um", "depth_length_um"):
         number(name, hp[name])
+    count = hp["marks_fitted"]
+    if not isinstance(count, int) or isinstance(count, bool) or not 2 <= count <= 10 ** 6:
+        raise ModelFileError(f"marks_fitted must be an integer in [2, 1000000] (the whole marks "
+                             f"the spreads were estimated from), got {count!r:.60}")
 
 
 def _check_sm2d(hp, spacing):
