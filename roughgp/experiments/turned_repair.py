@@ -22,6 +22,9 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import json
+import time
+from pathlib import Path
 
 import numpy as np
 
@@ -33,7 +36,8 @@ from roughgp.models import turned
 from roughgp.surface_models.periodic_model import PeriodicModelFit, fit_periodic_model
 
 __all__ = ["SPREAD", "MAX_OUTSIDE", "N_CHECK", "RepairedFigure7", "fit_mark_model",
-           "repaired_figure7", "repair_shown", "within_spread"]
+           "repaired_figure7", "repair_shown", "within_spread", "surface_record", "RECORDED",
+           "load_records", "records_table", "summarise_records"]
 
 #: the data's measures must lie within this many sd of the draws' mean
 SPREAD = 2.0
@@ -126,3 +130,85 @@ def repair_shown(result: RepairedFigure7) -> bool:
     no_flaw = ts.flaw_shown(result.draws, result.data) == (False, False)
     return bool(no_flaw and all(within_spread(result.draws, result.data))
                 and len(result.outside) <= MAX_OUTSIDE)
+
+
+#: a run of :func:`surface_record` over turned surfaces of several seeds
+#: (``benchmarks/turned_repair.py``)
+RECORDED = (Path(__file__).resolve().parents[2] / "benchmarks" / "results"
+            / "turned_repair.jsonl")
+
+
+def surface_record(seed, shape=ts.SHAPE, n_sim=None) -> dict:
+    """What the recorded run keeps of :func:`repaired_figure7` on the turned surface of
+    ``seed``: the fit's seconds and feed, the flaw measures (data and draws), the judgements
+    and the check's ranks."""
+    start = time.perf_counter()
+    fit = fit_mark_model(shape, seed)
+    fit_seconds = time.perf_counter() - start
+    r = repaired_figure7(False, shape=shape, seed=seed, n_sim=n_sim)
+    per, short = within_spread(r.draws, r.data)
+    return {"seed": int(seed), "shape": list(shape), "n_sim": r.n_sim,
+            "fit_seconds": round(fit_seconds, 2), "feed_um": fit.model.hyperparameters["feed_um"],
+            "data_periodicity": float(r.data.mean_periodicity[-1]),
+            "draws_periodicity": float(r.draws.mean_periodicity[-1]),
+            "draws_periodicity_sd": float(r.draws.periodicity[:, -1].std(ddof=1)),
+            "data_short_share": r.data.mean_short_share,
+            "draws_short_share": r.draws.mean_short_share,
+            "draws_short_share_sd": float(r.draws.short_share.std(ddof=1)),
+            "flaw": list(ts.flaw_shown(r.draws, r.data)), "within": [per, short],
+            "outside": r.outside,
+            "ranks": {p.name: int(p.rank) for p in r.check.parameters},
+            "seconds": round(time.perf_counter() - start, 2)}
+
+
+def load_records(path=RECORDED) -> list:
+    """The recorded run's records (an empty list where there is none)."""
+    path = Path(path)
+    if not path.is_file():
+        return []
+    return [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
+
+
+def summarise_records(records) -> dict:
+    """Over the recorded surfaces: how many, with no flaw, with the data within the draws'
+    spread (both measures), with at most :data:`MAX_OUTSIDE` outside, the largest count
+    outside, how often each parameter was outside, and the slowest fit (s)."""
+    records = list(records)
+    if not records:
+        raise ValueError("records must hold at least one surface_record")
+    counts: dict = {}
+    for r in records:
+        for name in r["outside"]:
+            counts[name] = counts.get(name, 0) + 1
+    return {"n": len(records),
+            "no_flaw": sum(not any(r["flaw"]) for r in records),
+            "within": sum(all(r["within"]) for r in records),
+            "passed": sum(len(r["outside"]) <= MAX_OUTSIDE for r in records),
+            "most_outside": max(len(r["outside"]) for r in records),
+            "outside_counts": dict(sorted(counts.items(), key=lambda kv: -kv[1])),
+            "slowest_fit": max(r["fit_seconds"] for r in records)}
+
+
+def records_table(records):
+    """The records as a table for a page (a pandas ``Styler``): per surface the periodicity at
+    five feeds and the short-wavelength share of the data and the draws, and the check's
+    parameters outside."""
+    import pandas as pd
+
+    rows = {}
+    for r in sorted(records, key=lambda r: r["seed"]):
+        rows[r["seed"]] = {
+            ("periodicity at 5 feeds", "data"): r["data_periodicity"],
+            ("periodicity at 5 feeds", "draws"): f"{r['draws_periodicity']:.3f} ± "
+                                                 f"{r['draws_periodicity_sd']:.3f}",
+            ("short share (1e-3)", "data"): 1e3 * r["data_short_share"],
+            ("short share (1e-3)", "draws"): f"{1e3 * r['draws_short_share']:.2f} ± "
+                                             f"{1e3 * r['draws_short_share_sd']:.2f}",
+            ("model check", "outside"): ", ".join(r["outside"]) or "none"}
+    table = pd.DataFrame.from_dict(rows, orient="index")
+    table.columns = pd.MultiIndex.from_tuples(table.columns)
+    table.index.name = "seed"
+    formats = {("periodicity at 5 feeds", "data"): "{:.3f}",
+               ("short share (1e-3)", "data"): "{:.2f}"}
+    return table.style.format(formats).set_caption(
+        f"the periodic-mark model on {len(table)} turned surfaces (draws: mean ± sd)")

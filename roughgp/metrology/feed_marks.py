@@ -329,7 +329,8 @@ def feed_marks(profile, spacing=1.0, *, feed=None) -> FeedMarks:
     marks = dataclasses.replace(marks, reproducibility=reproducibility, explained=explained)
     if not reproducibility >= REPRODUCIBLE:
         raise NoPeriodError(f"no feed mark in the profile: the mark found on one half of it "
-                            f"explains {reproducibility:.2f} of the other half's variance, below "
+                            f"explains {max(reproducibility, 0.0):.2f} of the other half's "
+                            f"variance, below "
                             f"{REPRODUCIBLE} (a periodic machined profile: near its whole "
                             f"variance; the best period of the whole: {period:.4g} um)")
     return marks

@@ -44,6 +44,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
+import warnings
 
 import numpy as np
 
@@ -119,7 +120,12 @@ def _central_crop(residual, limit):
 
 
 def _marks_along_x(h, dx, feed):
-    profile = np.nanmean(np.where(np.isfinite(h), h, np.nan), axis=0)
+    """The feed marks of the mean profile across the lay (the mean of each column's measured
+    points; NaN where a column has none)."""
+    valid = np.isfinite(h)
+    count = valid.sum(axis=0)
+    total = np.where(valid, h, 0.0).sum(axis=0)
+    profile = np.where(count > 0, total / np.maximum(count, 1), np.nan)
     return feed_marks(profile, dx, feed=feed)
 
 
@@ -147,6 +153,13 @@ def fit_periodic_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2
     Raises:
         NoPeriodError: no direction holds a reproducible feed mark.
     """
+    with warnings.catch_warnings():   # rows, columns or marks with no measured point: NaN,
+        warnings.filterwarnings("ignore", "Mean of empty slice")        # handled below
+        warnings.filterwarnings("ignore", "Degrees of freedom <= 0")
+        return _fit_periodic_model(z, spacing, form, s, l, degree, axis, feed, lay, data, device)
+
+
+def _fit_periodic_model(z, spacing, form, s, l, degree, axis, feed, lay, data, device):
     if lay not in ("auto", "x", "y"):
         raise ValueError(f"lay must be 'auto', 'x' or 'y', got {lay!r}")
     arr = surface_array(z)

@@ -139,3 +139,16 @@ def test_fit_periodic_refuses_what_does_not_apply(capsys, tmp_path, raw, extra, 
                         "--l-filter", "none", "--out", tmp_path / "never.json")
     assert code == 2 and words in err, err
     assert not (tmp_path / "never.json").exists()
+
+
+def test_holes_are_no_trouble(raw):
+    """A map with a whole column and a block unmeasured: the same feed, no warning."""
+    import warnings
+    z = raw.copy()
+    z[:, 700] = np.nan
+    z[20:50, 100:400] = np.nan
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        holes = fit_periodic_model(z, 1.0)
+    assert abs(holes.model.hyperparameters["feed_um"] / ts.PARAMS.feed - 1) < 0.01
+    assert holes.model.data["missing_fraction"] > 0.05
