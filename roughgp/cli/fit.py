@@ -58,9 +58,16 @@ Prints the weights (um^2), periods 1/mu (um), line widths (the standard deviatio
 spectral Gaussian, 1/um), the noise variance, the log marginal likelihood and the dominant
 period. The exact likelihood costs O(n^2) per step: a few thousand points take seconds to
 minutes; at most 65536 points.
+--model periodic fits a periodic machined profile (turned, milled, shaped) as a deterministic
+feed mark plus Gaussian processes instead (roughgp.surface_models.periodic_model): the mark
+folded at the feed (found, or --feed F um), each mark's shift and depth random from mark to
+mark, eq 18's exponential in one dimension plus noise on the rest; where the profile holds no
+mark that repeats (the mark of one half must explain half of the other's variance) it says so
+and fits eq 21.
 
 example:
-  roughgp fit profile turned.csv --mixtures 5 --seed 0 --out fit.json"""
+  roughgp fit profile turned.csv --mixtures 5 --seed 0 --out fit.json
+  roughgp fit profile turned.csv --model periodic --out marks.json"""
 
 _GROUND = """\
 Fit eq 18 (the rotated anisotropic exponential ACVF: variance, lambda_a along the lay,
@@ -140,6 +147,13 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                    help=f"initialisations scored, {bounds_text('--candidates')} (default 10)")
     p.add_argument("--profile-axis", choices=("x", "y"), default="x",
                    help="for a surface: the direction of the mean profile (default x)")
+    p.add_argument("--model", dest="rung", choices=("eq21", "periodic"), default="eq21",
+                   help="the model: eq21 (default, the paper's) or periodic (a feed mark plus "
+                        "GPs; see above)")
+    p.add_argument("--feed", type=float, default=None, metavar="F",
+                   help=f"--model periodic: the feed in um when known, "
+                        f"{bounds_text('--feed')} and at most a quarter of the profile "
+                        f"(default: found from the data)")
     add_force_option(p)
     p.set_defaults(func=run)
 
@@ -224,6 +238,13 @@ def _check_fit_device(args) -> None:
     """``--device`` is for eq 18's Whittle fit alone (the block fit and the other rungs have no
     device path): refused elsewhere, and a device this machine lacks refused, before any
     work."""
+    if args.model == "profile":
+        if args.feed is not None and args.rung != "periodic":
+            raise UsageError("--feed applies to --model periodic only (got --model eq21)")
+        if args.rung == "periodic" and args.non_gaussian:
+            raise UsageError("--model periodic draws Gaussian roughness on its marks: leave out "
+                             "--non-gaussian")
+        return
     device = getattr(args, "device", None)
     anchors = getattr(args, "anchors", None)
     if anchors is not None:
@@ -260,8 +281,13 @@ def _fit_profile(args, heights, operators, data):
         fix = ("fill the surface first (roughgp fill FILE --out FILLED.x3p) or crop it"
                if heights.kind == "surface" else "crop it to a complete stretch (roughgp fill "
                "fills surfaces only)")
+        fitted = "eq 21" if args.rung == "eq21" else "periodic-mark"
         raise UsageError(f"{args.file}: {how}: {holes} of {z.size} points unmeasured (NaN); the "
-                         f"eq 21 fit needs a complete profile: {fix}")
+                         f"{fitted} fit needs a complete profile: {fix}")
+    if args.rung == "periodic":
+        model = _fit_periodic_profile(args, z, spacing, how, heights, operators, data)
+        if model is not None:
+            return model
     if z.size > MAX_PROFILE_POINTS:
         raise UsageError(f"{args.file}: the profile has {z.size} points; the exact eq 21 fit "
                          f"costs O(n^2) per step and takes at most {MAX_PROFILE_POINTS} points "
@@ -294,6 +320,29 @@ def _fit_profile(args, heights, operators, data):
     return model
 
 
+def _fit_periodic_profile(args, z, spacing, how, heights, operators, data):
+    """``fit profile --model periodic``: the feed mark plus GPs of a profile, or None where it
+    holds no mark (the caller fits eq 21)."""
+    from roughgp.surface_models.periodic_model import NoPeriodError, fit_periodic_profile
+    try:
+        fitted = fit_periodic_profile(z, spacing, form=operators["form"], s=operators["s"],
+                                      l=operators["l"], feed=args.feed,
+                                      data={**data, "profile": how})
+    except NoPeriodError as exc:
+        print_wrapped(f"{args.file}: no periodic feed mark: {exc}; falling back to eq 21")
+        return None
+    except ValueError as exc:
+        raise UsageError(f"{args.file}: {exc}") from None
+    model = fitted.model
+    print_wrapped(f"fitted to {args.file}: {model.describe()}")
+    print_wrapped(f"profile: {how}; {z.size} points, spacing {spacing:g} um "
+                  f"({heights.spacing_source}); operators: {'; '.join(model.operators)}")
+    how_fit = model.fit
+    print_wrapped(f"  {how_fit['marks']} whole marks; the mark of one half of the profile "
+                  f"explains {how_fit['mark_reproducibility']:.3f} of the other half's variance")
+    return model
+
+
 def _marginal_choice(args):
     if args.marginal is not None and args.non_gaussian and args.marginal != "johnson":
         raise UsageError(f"--non-gaussian is --marginal johnson; it cannot be combined with "
@@ -309,6 +358,7 @@ def _fit_rungs(args, heights, operators, data, z):
     settings = dict(**operators, marginal=marginal, seed=args.seed, block=args.block,
                     n_blocks=args.blocks, nu=nu, data=data, likelihood=args.likelihood)
     if args.rung == "auto":
+        _note_periodic_mark(args, heights, operators, z)
         print(f"choosing a model for {args.file} by the kriging of held-out measured points:")
         print(f"  {'model':<7} {'held-out RMSE (um)':>19} {'+-2 sd held':>12} {'seconds':>8}")
 
@@ -365,6 +415,26 @@ def _fit_field(args, heights, operators, data, z):
                   "share one value; p gradient: that a plane in position does better, kept "
                   "below 0.01)")
     return model
+
+
+def _note_periodic_mark(args, heights, operators, z) -> None:
+    """``--model auto`` on a map whose feed mark repeats: say that --model periodic describes
+    it (the ladder below is stationary; it is not among auto's choices, which krige)."""
+    if getattr(args, "fell_back", False):
+        return
+    from roughgp.surface_models.periodic_model import find_mark
+    try:
+        found = find_mark(z, heights.spacing, form=operators["form"],
+                          degree=operators["degree"], axis=operators["axis"])
+    except ValueError:
+        return
+    if found is not None:
+        direction, marks = found
+        print_wrapped(f"note: {args.file} holds a feed mark that repeats along {direction} "
+                      f"(feed {marks.feed:.5g} um; the mark of one half explains "
+                      f"{marks.reproducibility:.2f} of the other half's variance): --model "
+                      f"periodic describes it as a mark plus GPs; the stationary ladder below "
+                      f"draws its lines with random phases (the flaw of figure 7)")
 
 
 def _fit_periodic(args, heights, operators, data, z):
@@ -429,7 +499,7 @@ def _fit_ground(args, heights, operators, data):
         model = _fit_periodic(args, heights, operators, data, z)
         if model is not None:
             return model, found
-        args.rung = "auto"
+        args.rung, args.fell_back = "auto", True
     if args.rung != "eq18":
         return _fit_rungs(args, heights, operators, data, z), found
     try:

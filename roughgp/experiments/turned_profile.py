@@ -31,7 +31,8 @@ from roughgp.metrology import levelling, texture
 from roughgp.models import turned
 
 __all__ = ["SEED", "N_POINTS", "SPACING", "Q", "PARAMS", "PARAMETER_KEYS", "TurnedProfileFit",
-           "TurnedProfileSimulations", "figure5_fit", "figure5_simulations", "dale_share"]
+           "TurnedProfileSimulations", "figure5_fit", "figure5_simulations", "dale_share",
+           "profile_values"]
 
 SEED = 7
 N_POINTS = 8192               # an 8.2 mm profile at 1 um
@@ -49,7 +50,8 @@ def dale_share(h) -> float:
     return float(np.mean(h < h.mean()))
 
 
-def _parameters(h, spacing):
+def profile_values(h, spacing) -> dict:
+    """The parameters of :data:`PARAMETER_KEYS` of the profile ``h`` (NaN where undefined)."""
     values = texture.profile_parameters(h, spacing, undefined="nan")
     return {key: float(values[key]) if key != "dale share" else dale_share(h)
             for key in PARAMETER_KEYS}
@@ -156,7 +158,7 @@ def _cached_fit(n_points, spacing, parameters, n_components, seed):
     fit = fitting.fit_spectral_mixture(x, z, n_components, seed=seed)
     seconds = time.perf_counter() - start
     return TurnedProfileFit(n_points, spacing, parameters, n_components, seed, _read_only(x),
-                            _read_only(raw), _read_only(z), fit, _parameters(z, spacing),
+                            _read_only(raw), _read_only(z), fit, profile_values(z, spacing),
                             seconds)
 
 
@@ -172,7 +174,7 @@ def figure5_simulations(result: TurnedProfileFit, n_simulations: int, *,
     latent = sampling.sample_grid(fit.kernel(), (result.n_points,), spacing=result.spacing,
                                   n_samples=n_simulations, seed=seed)
     profiles = fit.mean + GaussianNoise(fit.noise_variance).sample(latent, seed=seed + 1)
-    each = [_parameters(p, result.spacing) for p in profiles]
+    each = [profile_values(p, result.spacing) for p in profiles]
     values = {key: np.array([v[key] for v in each]) for key in PARAMETER_KEYS}
     ranges = {key: tuple(float(b) for b in np.nanpercentile(v, [2.5, 97.5]))
               for key, v in values.items()}

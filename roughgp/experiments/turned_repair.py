@@ -16,6 +16,12 @@ the draws show neither flaw (:func:`~roughgp.experiments.turned_surface.flaw_sho
 thresholds, those by which eq 22 shows both), the data's two measures lie within
 :data:`SPREAD` standard deviations of the draws' mean, and the check leaves at most
 :data:`MAX_OUTSIDE` of its 13 parameters outside.
+
+The same for the turned profile of figures 4 and 5 (:func:`repaired_figure5`): the
+``periodic-mark-profile`` rung fitted to the raw profile (the F-operator a line), its draws'
+ISO 4287 parameters and dale share against the data's as the chapter "Turned profiles" compares
+eq 21's (:func:`roughgp.experiments.turned_profile.figure5_simulations`), and the model check of
+the 11 profile parameters.
 """
 
 from __future__ import annotations
@@ -30,12 +36,18 @@ import numpy as np
 
 from roughgp.checking.model_check import ModelCheck, check_model
 from roughgp.common.results_cache import persistent
+from roughgp.experiments import turned_profile as tp
 from roughgp.experiments import turned_surface as ts
 from roughgp.metrology import levelling
 from roughgp.models import turned
-from roughgp.surface_models.periodic_model import PeriodicModelFit, fit_periodic_model
+from roughgp.surface_models.periodic_model import (
+    PeriodicModelFit,
+    fit_periodic_model,
+    fit_periodic_profile,
+)
 
 __all__ = ["SPREAD", "MAX_OUTSIDE", "N_CHECK", "RepairedFigure7", "fit_mark_model",
+           "RepairedFigure5", "repaired_figure5",
            "repaired_figure7", "repair_shown", "within_spread", "surface_record", "RECORDED",
            "load_records", "records_table", "summarise_records"]
 
@@ -212,3 +224,44 @@ def records_table(records):
                ("short share (1e-3)", "data"): "{:.2f}"}
     return table.style.format(formats).set_caption(
         f"the periodic-mark model on {len(table)} turned surfaces (draws: mean ± sd)")
+
+
+@dataclasses.dataclass(frozen=True)
+class RepairedFigure5:
+    """The periodic-mark-profile model on figure 4's stand-in: the fit, its draws and their
+    parameters (:class:`~roughgp.experiments.turned_profile.TurnedProfileSimulations`: the
+    draws levelled as the data), and the model check of the raw profile."""
+
+    fit: PeriodicModelFit
+    simulations: tp.TurnedProfileSimulations
+    check: ModelCheck
+
+    @property
+    def outside(self) -> list:
+        return [p.name for p in self.check.parameters if p.outside]
+
+
+@functools.lru_cache(maxsize=1)
+def _repaired_profile(n_points, n_sim, n_check):
+    result = tp.figure5_fit(n_points)
+    fit = fit_periodic_profile(np.asarray(result.raw), result.spacing, form="plane")
+    seed = result.seed + 1
+    draws = fit.model.simulate(result.n_points, seed=seed, n_samples=n_sim)
+    each = [tp.profile_values(levelling.level(d, spacing=result.spacing), result.spacing)
+            for d in draws]
+    values = {key: np.array([v[key] for v in each]) for key in tp.PARAMETER_KEYS}
+    ranges = {key: tuple(float(b) for b in np.nanpercentile(v, [2.5, 97.5]))
+              for key, v in values.items()}
+    inside = {key: bool(lo <= result.measured[key] <= hi) for key, (lo, hi) in ranges.items()}
+    sims = tp.TurnedProfileSimulations(seed, draws, values, dict(result.measured), ranges,
+                                       inside)
+    check = check_model(fit.model, np.asarray(result.raw), result.spacing,
+                        n_simulations=n_check, seed=seed + 1)
+    return RepairedFigure5(fit, sims, check)
+
+
+def repaired_figure5(n_points=tp.N_POINTS, n_sim=40, n_check=N_CHECK) -> RepairedFigure5:
+    """Fit the periodic-mark-profile model to the profile of ``n_points`` of
+    :func:`~roughgp.experiments.turned_profile.figure5_fit`, draw ``n_sim`` profiles (seeded by
+    the fit's seed + 1) and check it (seed + 2). Cached."""
+    return _repaired_profile(int(n_points), int(n_sim), int(n_check))

@@ -38,6 +38,7 @@ from roughgp.common.checks import boolean_map, surface_array
 from roughgp.common.grid import normalize
 from roughgp.filling.global_fill import GapFill, fill_gaps
 from roughgp.filling.local_fill import LocalFill, fill_gaps_locally
+from roughgp.filling.mark_trace import PERIODIC_EQUATIONS, map_trace, roughness_kernel
 from roughgp.filling.self_check import (
     CHECK_SHARE,
     GAUSSIAN_FACTOR,
@@ -128,7 +129,9 @@ def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, 
             (:func:`~roughgp.inference.block_fit.fit_ground_to_valid_points`).
         form, degree, axis: the F-operator (:func:`~roughgp.metrology.form.remove_form`).
         model: a :class:`~roughgp.surface_models.model.FittedModel` of a surface (eq 18 or
-            its Matérn variant) whose kernel and noise are used instead of a fit (through its
+            its Matérn variant; a periodic-mark model fills what the map's own marks leave,
+            :mod:`roughgp.filling.mark_trace`) whose kernel and noise are used instead of a
+            fit (through its
             ``kind``, ``kernel()``, ``noise_variance``, ``hyperparameters`` and ``equation``:
             this package sits below the models).
         nu: the smoothness of the fit when no model is given (0.5: eq 18; 1.5, 2.5: Matérn;
@@ -166,7 +169,7 @@ def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, 
         raise ValueError(f"nu='auto' needs a self-check, and {int(measured.sum())} measured "
                          f"points are too few to hold some out (at least "
                          f"{MIN_CHECK_POINTS / CHECK_SHARE:.0f} are needed)")
-    fit, checks = None, {}
+    fit, checks, trace = None, {}, 0.0
     if model is None:
         fits = {}
         for smoothness in (NU_CHOICES if nu == "auto" else (nu,)):
@@ -183,7 +186,13 @@ def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, 
         fit = fits[nu]
         kernel, noise_variance = fit.kernel, fit.noise_variance
     else:
-        kernel, noise_variance = model.kernel(), model.noise_variance
+        if model.equation in PERIODIC_EQUATIONS:   # krige what the map's own marks leave
+            trace = map_trace(residual, model, (dy, dx))
+            residual = residual - trace
+            kernel = roughness_kernel(model)
+        else:
+            kernel = model.kernel()
+        noise_variance = model.noise_variance
         nu = float(model.hyperparameters.get("nu", 0.5))
         if held_out is not None:
             checks[nu] = self_check_fill(residual, kernel, noise_variance=noise_variance,
@@ -196,7 +205,7 @@ def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, 
     else:
         gaps = fill_gaps(residual, kernel, noise_variance=noise_variance, spacing=(dy, dx),
                          mask=mask, n_samples=n_samples, seed=seed, device=device)
-    form_part = form_heights(form_fit, z.shape, (dy, dx))
+    form_part = form_heights(form_fit, z.shape, (dy, dx)) + trace
     filled = np.where(missing, gaps.mean + form_part, z)
     sd = np.where(missing, gaps.sd, 0.0)
     return MeasuredFill(filled=filled, sd=sd, missing=missing, form=form_fit, fit=fit,

@@ -30,7 +30,8 @@ HEIGHT_LIMIT_UM = BOUNDS["height"]
 #: the field of each equation that sets its heights' scale
 _SCALE_FIELD = {"eq18": "variance_um2", "eq18-matern": "variance_um2", "sm2d": "weights_um2",
                 "eq21": "weights_um2", "measured-psd": "psd_um4", "eq18-field": "variance_um2",
-                "periodic-mark": "mark_um, depth_sd_um, lay_sd_um, variance_um2"}
+                "periodic-mark": "mark_um, depth_sd_um, lay_sd_um, variance_um2",
+                "periodic-mark-profile": "mark_um, depth_sd_um, variance_um2"}
 
 
 def extreme_height(model) -> tuple[float, str]:
@@ -39,10 +40,10 @@ def extreme_height(model) -> tuple[float, str]:
     mean = abs(float(model.hyperparameters.get("mean_um", 0.0)))
     if model.equation == "eq18-field":  # the roughest anchor, not the mean over them
         latent = max(max(row) for row in model.hyperparameters["variance_um2"])
-    elif model.equation == "periodic-mark":  # the mark's highest point, then the random parts
-        hp = model.hyperparameters
+    elif model.equation in ("periodic-mark", "periodic-mark-profile"):
+        hp = model.hyperparameters         # the mark's highest point, then the random parts
         mean += float(np.max(np.abs(hp["mark_um"])))
-        latent = hp["depth_sd_um"] ** 2 + hp["lay_sd_um"] ** 2 + hp["variance_um2"]
+        latent = hp["depth_sd_um"] ** 2 + hp.get("lay_sd_um", 0.0) ** 2 + hp["variance_um2"]
     else:
         latent = model.latent_variance()
     variance = latent + model.noise_variance

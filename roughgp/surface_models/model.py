@@ -36,7 +36,8 @@ Equations:
   PSD (``noise_variance_um2`` 0), its ACVF the inverse DFT of the PSD;
 * ``"periodic-mark"``: a periodic machined surface, a deterministic feed mark with Gaussian
   mark-to-mark shifts and depths, plus eq 18 and noise
-  (:mod:`roughgp.surface_models.periodic_model`);
+  (:mod:`roughgp.surface_models.periodic_model`); ``"periodic-mark-profile"`` the same for a
+  profile, eq 18's exponential in one dimension on top;
 * ``"sm2d"``: a surface, a 2-D spectral mixture (eq 21's family in two dimensions, each
   component a pair of Gaussians at :math:`\pm\boldsymbol\mu_q` with a full covariance given
   by its bandwidths and axes' angle) plus Gaussian noise, for structured or periodic surfaces
@@ -95,7 +96,8 @@ class FittedModel:
     Attributes:
         equation: ``"eq18"``, ``"eq18-matern"``, ``"eq21"``, ``"measured-psd"``, ``"sm2d"``,
             ``"eq18-field"`` (:mod:`roughgp.surface_models.field_model`) or
-            ``"periodic-mark"`` (:mod:`roughgp.surface_models.periodic_model`).
+            ``"periodic-mark"`` / ``"periodic-mark-profile"``
+            (:mod:`roughgp.surface_models.periodic_model`).
         hyperparameters: the names of :data:`EQUATIONS` (units in the names: um, um^2, deg,
             1/um); eq 21's are lists of Q values.
         spacing: the grid spacing of the data, ``(dy, dx)`` (surface) or ``(dx,)`` (profile), um.
@@ -146,11 +148,11 @@ class FittedModel:
             raise ValueError("the eq18-field model has no single kernel (its parameters vary "
                              "over the map): fill, the calibrated check and the predictive "
                              "draws need a stationary model (fit one with --model eq18)")
-        if self.equation == "periodic-mark":
-            raise ValueError("the periodic-mark model has no single kernel (a deterministic "
-                             "feed mark plus Gaussian processes): fill, the calibrated check "
-                             "and the predictive draws need a stationary model (fit one with "
-                             "--model eq18 or sm)")
+        if self.equation in ("periodic-mark", "periodic-mark-profile"):
+            raise ValueError(f"the {self.equation} model has no single kernel (a deterministic "
+                             "feed mark plus Gaussian processes): the calibrated check and the "
+                             "predictive draws need a stationary model (fit one with --model "
+                             "eq18 or sm)")
         if self.equation == "measured-psd":
             from roughgp.surface_models.measured_psd import TabulatedACVF
             return TabulatedACVF(self)
@@ -185,9 +187,9 @@ class FittedModel:
             return band_variance(self)
         if self.equation == "eq18-field":  # the mean over the anchors
             return float(np.mean(hp["variance_um2"]))
-        if self.equation == "periodic-mark":  # the mark's, the depths' and the roughness's
-            return float(np.var(hp["mark_um"]) + hp["depth_sd_um"] ** 2 + hp["lay_sd_um"] ** 2
-                         + hp["variance_um2"])
+        if self.equation in ("periodic-mark", "periodic-mark-profile"):  # mark, depths, rest
+            return float(np.var(hp["mark_um"]) + hp["depth_sd_um"] ** 2
+                         + hp.get("lay_sd_um", 0.0) ** 2 + hp["variance_um2"])
         if self.kind == "surface" and self.equation != "sm2d":
             return float(hp["variance_um2"])
         return float(np.sum(hp["weights_um2"]))
@@ -227,6 +229,14 @@ class FittedModel:
                     f"{hp['lay_sd_um']:.3g} um over {hp['depth_length_um']:.4g} um; roughness eq 18: variance {hp['variance_um2']:.4g} um^2, lambda_a "
                     f"{hp['lambda_a_um']:.4g} um, lambda_b {hp['lambda_b_um']:.4g} um, angle "
                     f"{hp['angle_deg']:.1f} deg")
+        elif self.equation == "periodic-mark-profile":
+            from roughgp.surface_models.periodic_draw import mark_of
+            text = (f"periodic mark (profile): feed {hp['feed_um']:.5g} um, mark height "
+                    f"{mark_of(self).height:.4g} um; per mark a shift of sd "
+                    f"{hp['shift_sd_um']:.3g} um (rho {hp['shift_rho']:.2f}) and a depth of sd "
+                    f"{hp['depth_sd_um']:.3g} um (rho {hp['depth_rho']:.2f}); roughness eq 18 "
+                    f"in 1-D: variance {hp['variance_um2']:.4g} um^2, lambda "
+                    f"{hp['lambda_um']:.4g} um")
         elif self.kind == "surface":
             name = "eq 18" if self.equation == "eq18" else f"eq 18 with Matern nu = {hp['nu']:g}"
             text = (f"{name}: variance {hp['variance_um2']:.4g} um^2, lambda_a "
@@ -273,6 +283,10 @@ class FittedModel:
         if self.equation == "eq18-field":
             from roughgp.surface_models.field_draw import draw_field_model
             return self._returned(draw_field_model(self, shape, spacing, rng, count), n_samples)
+        if self.equation == "periodic-mark-profile":
+            from roughgp.surface_models.periodic_draw import draw_periodic_profile
+            return self._returned(draw_periodic_profile(self, shape[0], spacing[0], rng, count),
+                                  n_samples)
         if self.equation == "periodic-mark":
             from roughgp.surface_models.periodic_draw import draw_periodic_model
             return self._returned(draw_periodic_model(self, shape, spacing, rng, count),

@@ -30,7 +30,7 @@ import numpy as np
 from roughgp.metrology.feed_marks import FeedMarks
 
 __all__ = ["mark_of", "ar1", "lay_field", "spread_draw", "ar1_across", "draw_periodic_model",
-           "roughness_model"]
+           "draw_periodic_profile", "roughness_model"]
 
 _MAX_LAY_POINTS = 1 << 16
 
@@ -113,6 +113,28 @@ def spread_draw(sd, n, rng) -> float:
     if sd == 0:
         return 0.0
     return float(sd * math.sqrt(n / rng.chisquare(n - 1)))
+
+
+def draw_periodic_profile(model, n, spacing, rng, count) -> np.ndarray:
+    """``count`` draws of a ``periodic-mark-profile`` model on ``n`` points ``spacing`` um apart:
+    shape ``(count, n)``; the trace as :func:`draw_periodic_model`'s (one row), the exponential
+    ACVF as its exact AR(1) recursion, white noise on top."""
+    hp = model.hyperparameters
+    marks = mark_of(model)
+    n_marks = int(math.ceil(n * spacing / marks.feed)) + 3
+    x = np.arange(n) * spacing
+    a = math.exp(-spacing / hp["lambda_um"])
+    out = np.empty((count, n))
+    for i in range(count):
+        shift_sd = spread_draw(hp["shift_sd_um"], hp["marks_fitted"], rng)
+        depth_sd = spread_draw(hp["depth_sd_um"], hp["marks_fitted"], rng)
+        shifts = ar1(n_marks, min(shift_sd, marks.feed / 4), hp["shift_rho"], rng)
+        depths = ar1(n_marks, depth_sd, hp["depth_rho"], rng)
+        trace = dataclasses.replace(marks, shifts=shifts, depths=depths).profile(x)
+        rough = ar1(n, math.sqrt(hp["variance_um2"]), a, rng)
+        noise = rng.normal(0.0, math.sqrt(hp["noise_variance_um2"]), n)
+        out[i] = trace + rough + noise
+    return float(hp.get("mean_um", 0.0)) + out
 
 
 def ar1_across(lay, rho) -> np.ndarray:

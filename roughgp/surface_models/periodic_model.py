@@ -37,6 +37,10 @@ The direction of the feed is the axis whose mean profile holds the more reproduc
 (``lay="auto"``), or given. Where neither holds a mark, :func:`fit_periodic_model` raises
 :class:`~roughgp.metrology.feed_marks.NoPeriodError`, whose message says so (the command falls
 back to the stationary ladder). Draws: :mod:`roughgp.surface_models.periodic_draw`.
+
+A profile (:func:`fit_periodic_profile`, rung ``periodic-mark-profile``) has the same first two
+layers without the lay, and eq 18's exponential ACVF in one dimension plus noise on top
+(:func:`roughgp.inference.exponential_profile.fit_exponential_profile`).
 """
 
 from __future__ import annotations
@@ -50,14 +54,15 @@ import numpy as np
 
 from roughgp.common.checks import surface_array
 from roughgp.common.grid import normalize
+from roughgp.inference.exponential_profile import fit_exponential_profile
 from roughgp.inference.whittle_fit import fit_whittle
 from roughgp.metrology.feed_marks import FeedMarks, NoPeriodError, feed_marks, row_depths
 from roughgp.metrology.filters import Texture
 from roughgp.surface_models.chain import measured_chain
 from roughgp.surface_models.model import FittedModel
 
-__all__ = ["RESIDUAL_POINTS", "PeriodicModelFit", "fit_periodic_model", "NoPeriodError",
-           "lag_one", "lay_length"]
+__all__ = ["RESIDUAL_POINTS", "PeriodicModelFit", "fit_periodic_model",
+           "fit_periodic_profile", "find_mark", "NoPeriodError", "lag_one", "lay_length"]
 
 #: the most points of the residual that eq 18 is fitted on (a central crop)
 RESIDUAL_POINTS = 1 << 18
@@ -135,6 +140,35 @@ def _whole_marks(marks: FeedMarks, length):
     return (lo >= -1e-9) & (lo + marks.feed <= length + 1e-9)
 
 
+def _marks_both_ways(heights, dx, dy, feed, lay):
+    frames = {"x": (heights, dx, dy), "y": (heights.T, dy, dx)}
+    found, refusals = {}, []
+    for name in (("x", "y") if lay == "auto" else (lay,)):
+        h, step, _ = frames[name]
+        try:
+            found[name] = _marks_along_x(h, step, feed)
+        except NoPeriodError as exc:
+            refusals.append(f"along {name}: {exc}")
+    return frames, found, refusals
+
+
+def find_mark(z, spacing=1.0, *, form="plane", degree=2, axis="auto"):
+    """``(direction, marks)`` of the more reproducible feed mark of the map ``z`` after the
+    F-operator, along ``"x"`` or ``"y"``, or None where neither direction holds one: the test
+    of :func:`fit_periodic_model` alone (a fraction of a second), for ``--model auto``."""
+    arr = surface_array(z)
+    _, (dy, dx) = normalize(arr.shape, spacing)
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", "Mean of empty slice")
+        _, _, heights = measured_chain(arr, (dy, dx), form, None, None, degree, axis,
+                                       "form-removed")
+        _, found, _ = _marks_both_ways(heights, dx, dy, None, "auto")
+    if not found:
+        return None
+    direction = max(found, key=lambda n: found[n].reproducibility)
+    return direction, found[direction]
+
+
 def fit_periodic_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, axis="auto",
                        feed=None, lay="auto", data=None, device=None) -> PeriodicModelFit:
     """Fit the ``periodic-mark`` model to a measured surface ``z[iy, ix]`` (um, NaN where
@@ -167,14 +201,7 @@ def _fit_periodic_model(z, spacing, form, s, l, degree, axis, feed, lay, data, d
     start = time.perf_counter()
     texture, cutoffs, heights = measured_chain(arr, (dy, dx), form, s, l, degree, axis,
                                                "form-removed")
-    frames = {"x": (heights, dx, dy), "y": (heights.T, dy, dx)}
-    found, refusals = {}, []
-    for name in (("x", "y") if lay == "auto" else (lay,)):
-        h, step, _ = frames[name]
-        try:
-            found[name] = _marks_along_x(h, step, feed)
-        except NoPeriodError as exc:
-            refusals.append(f"along {name}: {exc}")
+    frames, found, refusals = _marks_both_ways(heights, dx, dy, feed, lay)
     if not found:
         raise NoPeriodError("; ".join(refusals))
     direction = max(found, key=lambda n: found[n].reproducibility)
@@ -208,7 +235,7 @@ def _fit_periodic_model(z, spacing, form, s, l, degree, axis, feed, lay, data, d
              "depth_rho": lag_one(level),
              "lay_sd_um": float(np.nanstd(along)) if h.shape[0] > 1 else 0.0,
              "depth_length_um": lay_length(along, lay_step),
-             "marks_fitted": int(whole.sum()),
+             "marks_fitted": int(max(whole.sum(), 2)),
              "variance_um2": float(g.variance), "lambda_a_um": float(g.lengthscales[0]),
              "lambda_b_um": float(g.lengthscales[1]),
              "angle_deg": float((angle + 90.0) % 180.0 - 90.0),
@@ -229,3 +256,54 @@ def _fit_periodic_model(z, spacing, form, s, l, degree, axis, feed, lay, data, d
     model = FittedModel("periodic-mark", hyper, (dy, dx), None, tuple(texture.operators),
                         cutoffs, described, how, "form-removed")
     return PeriodicModelFit(model, texture, marks, depths, residual)
+
+
+def fit_periodic_profile(z, spacing=1.0, *, form="plane", s=None, l=None, feed=None,
+                         data=None) -> PeriodicModelFit:
+    """Fit the ``periodic-mark-profile`` model to a complete measured profile ``z[ix]`` (um;
+    module docstring): the marks of the profile after F (a least-squares line for
+    ``form="plane"``), their shifts' and depths' spreads and lag-one correlations over the
+    whole marks, and the exponential ACVF plus noise on the rest. ``depths`` of the result is
+    ``(K, 1)``.
+
+    Raises:
+        NoPeriodError: the profile holds no reproducible feed mark.
+    """
+    arr = np.asarray(z, dtype=np.float64)
+    if arr.ndim != 1:
+        raise ValueError(f"z must be a profile z[ix], got shape {arr.shape}")
+    missing = int(np.count_nonzero(~np.isfinite(arr)))
+    if missing:
+        raise ValueError(f"the profile has {missing} missing (NaN) point(s); the periodic-mark "
+                         f"fit of a profile needs a complete profile (fill or crop them first)")
+    dx = float(np.ravel(spacing)[-1])
+    if not (math.isfinite(dx) and dx > 0):
+        raise ValueError(f"spacing must be > 0, got {spacing!r}")
+    start = time.perf_counter()
+    texture, cutoffs, heights = measured_chain(arr, dx, form, s, l, 2, "auto", "form-removed")
+    marks = feed_marks(heights, dx, feed=feed)
+    x = np.arange(arr.size) * dx
+    whole = _whole_marks(marks, arr.size * dx)
+    residual = heights - heights.mean() - marks.profile(x)
+    rough = fit_exponential_profile(residual, dx)
+    hyper = {"feed_um": marks.feed, "origin_um": float(marks.origin % marks.feed),
+             "mark_um": [float(v) for v in marks.mark],
+             "shift_sd_um": float(min(np.std(marks.shifts[whole]), marks.feed / 4)),
+             "shift_rho": lag_one(marks.shifts[whole]),
+             "depth_sd_um": float(np.std(marks.depths[whole])),
+             "depth_rho": lag_one(marks.depths[whole]),
+             "marks_fitted": int(max(whole.sum(), 2)),
+             "variance_um2": rough.variance, "lambda_um": rough.lengthscale,
+             "noise_variance_um2": rough.noise_variance, "mean_um": float(heights.mean())}
+    described = {**(data or {}), "shape": [arr.size], "spacing_um": [dx],
+                 "missing_fraction": 0.0, "points_used": int(arr.size)}
+    how = {"method": "feed mark folded at the fitted feed, per-mark shifts and depths as "
+                     "AR(1) Gaussian sequences, the exponential ACVF plus noise on the residual "
+                     "by the Whittle likelihood (roughgp.surface_models.periodic_model)",
+           "marks": int(whole.sum()), "mark_reproducibility": round(marks.reproducibility, 4),
+           "mark_explained": round(marks.explained, 4),
+           "residual_log_likelihood": rough.log_likelihood,
+           "seconds": round(time.perf_counter() - start, 2)}
+    model = FittedModel("periodic-mark-profile", hyper, (dx,), None, tuple(texture.operators),
+                        cutoffs, described, how, "form-removed")
+    return PeriodicModelFit(model, texture, marks, marks.depths[:, None], residual)

@@ -50,6 +50,11 @@ EQUATIONS = {
                                   "shift_sd_um", "shift_rho", "depth_sd_um", "depth_rho",
                                   "lay_sd_um", "depth_length_um", "marks_fitted", "variance_um2", "lambda_a_um",
                                   "lambda_b_um", "angle_deg", "noise_variance_um2")),
+    # the same for a profile, the roughness on top eq 18's exponential in one dimension
+    "periodic-mark-profile": ("profile", ("feed_um", "origin_um", "mark_um", "shift_sd_um",
+                                          "shift_rho", "depth_sd_um", "depth_rho",
+                                          "marks_fitted", "variance_um2", "lambda_um",
+                                          "noise_variance_um2")),
 }
 #: the periodic-mark model's directions of the feed (the marks repeat along x: 0, along y: 90)
 FEED_DIRECTIONS = (0, 90)
@@ -113,6 +118,7 @@ RANGES = {
     "anchors_x_um": (-1e9, 1e9, True),
     "anchors_y_um": (-1e9, 1e9, True),
     "feed_um": (0.0, 1e9, False),
+    "lambda_um": (0.0, 1e9, False),
     "origin_um": (0.0, 1e9, True),
     "mark_um": (-1e9, 1e9, True),
     "shift_sd_um": (0.0, 1e9, True),
@@ -207,11 +213,11 @@ def check_fields(equation, hyperparameters, spacing, marginal, cutoffs, stage, o
         if marginal is not None:
             raise ModelFileError("the eq18-field model draws Gaussian heights: its marginal "
                                  "must be null")
-    elif equation == "periodic-mark":
+    elif equation in ("periodic-mark", "periodic-mark-profile"):
         _check_periodic(hp, spacing)
         if marginal is not None:
-            raise ModelFileError("the periodic-mark model draws its roughness with Gaussian "
-                                 "heights: its marginal must be null")
+            raise ModelFileError(f"the {equation} model draws its roughness with Gaussian "
+                                 f"heights: its marginal must be null")
     if kind == "surface" and equation not in ("measured-psd", "sm2d", "eq18-field"):
         for name in ("variance_um2", "lambda_a_um", "lambda_b_um", "angle_deg"):
             number(name, hp[name])
@@ -222,7 +228,7 @@ def check_fields(equation, hyperparameters, spacing, marginal, cutoffs, stage, o
                                      f"got {hp[name]!r}")
         if equation == "eq18-matern" and (not _is_number(hp["nu"]) or hp["nu"] not in (1.5, 2.5)):
             raise ModelFileError(f"nu must be 1.5 or 2.5 (0.5 is eq 18), got {hp['nu']!r}")
-    elif kind == "profile":
+    elif equation == "eq21":
         lists = [_numbers(n, hp[n], count=range(1, MAX_MIXTURES + 1)) for n in names[:3]]
         if len({len(v) for v in lists}) != 1:
             raise ModelFileError("weights_um2, frequencies_per_um and "
@@ -336,11 +342,11 @@ def _check_periodic(hp, spacing):
     """The periodic-mark model: the feed along x or y (:data:`FEED_DIRECTIONS`), at least
     ``MARK_SAMPLES[0]`` spacings of that axis; the mark ``MARK_SAMPLES`` heights; the origin
     within one feed; shifts of at most a quarter feed; correlations in [0, 0.99]."""
-    direction = hp["feed_direction_deg"]
+    direction = hp.get("feed_direction_deg", 0)     # a profile's marks repeat along it
     if not _is_number(direction) or direction not in FEED_DIRECTIONS:
         raise ModelFileError(f"feed_direction_deg must be 0 (the marks repeat along x) or 90 "
                              f"(along y), got {direction!r}")
-    step = spacing[1] if direction == 0 else spacing[0]
+    step = spacing[-1] if direction == 0 else spacing[0]
     feed = number("feed_um", hp["feed_um"])
     if not feed >= MARK_SAMPLES[0] * step:
         raise ModelFileError(f"feed_um must be at least {MARK_SAMPLES[0]} spacings "
@@ -357,8 +363,10 @@ def _check_periodic(hp, spacing):
     if not number("shift_sd_um", hp["shift_sd_um"]) <= feed / 4:
         raise ModelFileError(f"shift_sd_um must be in [0, feed_um / 4 = {feed / 4:g}], got "
                              f"{hp['shift_sd_um']!r}")
-    for name in ("shift_rho", "depth_sd_um", "depth_rho", "lay_sd_um", "depth_length_um"):
-        number(name, hp[name])
+    for name in ("shift_rho", "depth_sd_um", "depth_rho", "lay_sd_um", "depth_length_um",
+                 "variance_um2", "lambda_um"):
+        if name in hp:
+            number(name, hp[name])
     count = hp["marks_fitted"]
     if not isinstance(count, int) or isinstance(count, bool) or not 2 <= count <= 10 ** 6:
         raise ModelFileError(f"marks_fitted must be an integer in [2, 1000000] (the whole marks "

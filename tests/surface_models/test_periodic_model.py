@@ -152,3 +152,59 @@ def test_holes_are_no_trouble(raw):
         holes = fit_periodic_model(z, 1.0)
     assert abs(holes.model.hyperparameters["feed_um"] / ts.PARAMS.feed - 1) < 0.01
     assert holes.model.data["missing_fraction"] > 0.05
+
+
+@pytest.fixture(scope="module")
+def profile():
+    return turned.turned_profile(4096, 1.0, seed=7)[1]
+
+
+def test_a_profile_gives_its_marks_and_its_roughness(profile):
+    from roughgp.surface_models.periodic_model import fit_periodic_profile
+    fitted = fit_periodic_profile(profile, 1.0)
+    hp = fitted.model.hyperparameters
+    truth = turned.RUBERT_LIKE
+    assert fitted.model.kind == "profile"
+    assert abs(hp["feed_um"] / truth.feed - 1) < 0.01
+    assert 0.5 < hp["noise_variance_um2"] / truth.noise_sd ** 2 < 2.0
+    back = FittedModel.from_dict(fitted.model.to_dict())
+    draws = back.simulate(2048, seed=1, n_samples=3)
+    assert draws.shape == (3, 2048) and np.isfinite(draws).all()
+    np.testing.assert_array_equal(draws, back.simulate(2048, seed=1, n_samples=3))
+
+
+def test_the_profile_command_fits_and_falls_back(capsys, tmp_path, profile):
+    np.save(tmp_path / "p.npy", profile)
+    code, text, err = _run(capsys, "fit", "profile", tmp_path / "p.npy", "--model", "periodic",
+                           "--out", tmp_path / "p.json")
+    assert code == 0, err
+    assert FittedModel.load(tmp_path / "p.json").equation == "periodic-mark-profile"
+    np.save(tmp_path / "n.npy", np.random.default_rng(2).standard_normal(512))
+    code, text, err = _run(capsys, "fit", "profile", tmp_path / "n.npy", "--model", "periodic",
+                           "--mixtures", 2, "--candidates", 2, "--out", tmp_path / "n.json")
+    assert code == 0, err
+    assert "falling back to eq 21" in " ".join(text.split())
+    assert FittedModel.load(tmp_path / "n.json").equation == "eq21"
+    code, _, err = _run(capsys, "fit", "profile", tmp_path / "p.npy", "--feed", 250,
+                        "--out", tmp_path / "never.json")
+    assert code == 2 and "--feed applies to --model periodic only" in err
+    holes = profile.copy()
+    holes[10] = np.nan
+    np.save(tmp_path / "h.npy", holes)
+    code, _, err = _run(capsys, "fit", "profile", tmp_path / "h.npy", "--model", "periodic",
+                        "--out", tmp_path / "never.json")
+    assert code == 2 and "the periodic-mark fit needs a complete profile" in err
+    assert not (tmp_path / "never.json").exists()
+
+
+def test_fill_kriges_what_the_marks_leave(fitted, raw):
+    """The holes filled by the map's own marks plus eq 18's kriging: within the roughness
+    (sd about 0.1 um) of the truth, where the heights span some 10 um."""
+    from roughgp.filling.measured import fill_measured_surface
+    z = raw.copy()
+    z[30:50, 300:340] = np.nan
+    z[70:74, 900:980] = np.nan
+    holes = np.isnan(z)
+    filled = fill_measured_surface(z, spacing=1.0, model=fitted.model, seed=0).filled
+    error = filled[holes] - raw[holes]
+    assert np.sqrt(np.mean(error ** 2)) < 0.2 < raw.std()
