@@ -11,6 +11,11 @@ import time
 import numpy as np
 
 from roughgp.cli.bounds import bounds_text, check_block, integer
+from roughgp.cli.fit_periodic import (
+    fit_periodic_command,
+    fit_periodic_profile_command,
+    note_periodic_mark,
+)
 from roughgp.surface_models.schema import MAX_ANCHORS
 from roughgp.cli.options import (
     add_operator_options,
@@ -285,7 +290,7 @@ def _fit_profile(args, heights, operators, data):
         raise UsageError(f"{args.file}: {how}: {holes} of {z.size} points unmeasured (NaN); the "
                          f"{fitted} fit needs a complete profile: {fix}")
     if args.rung == "periodic":
-        model = _fit_periodic_profile(args, z, spacing, how, heights, operators, data)
+        model = fit_periodic_profile_command(args, z, spacing, how, heights, operators, data)
         if model is not None:
             return model
     if z.size > MAX_PROFILE_POINTS:
@@ -320,29 +325,6 @@ def _fit_profile(args, heights, operators, data):
     return model
 
 
-def _fit_periodic_profile(args, z, spacing, how, heights, operators, data):
-    """``fit profile --model periodic``: the feed mark plus GPs of a profile, or None where it
-    holds no mark (the caller fits eq 21)."""
-    from roughgp.surface_models.periodic_model import NoPeriodError, fit_periodic_profile
-    try:
-        fitted = fit_periodic_profile(z, spacing, form=operators["form"], s=operators["s"],
-                                      l=operators["l"], feed=args.feed,
-                                      data={**data, "profile": how})
-    except NoPeriodError as exc:
-        print_wrapped(f"{args.file}: no periodic feed mark: {exc}; falling back to eq 21")
-        return None
-    except ValueError as exc:
-        raise UsageError(f"{args.file}: {exc}") from None
-    model = fitted.model
-    print_wrapped(f"fitted to {args.file}: {model.describe()}")
-    print_wrapped(f"profile: {how}; {z.size} points, spacing {spacing:g} um "
-                  f"({heights.spacing_source}); operators: {'; '.join(model.operators)}")
-    how_fit = model.fit
-    print_wrapped(f"  {how_fit['marks']} whole marks; the mark of one half of the profile "
-                  f"explains {how_fit['mark_reproducibility']:.3f} of the other half's variance")
-    return model
-
-
 def _marginal_choice(args):
     if args.marginal is not None and args.non_gaussian and args.marginal != "johnson":
         raise UsageError(f"--non-gaussian is --marginal johnson; it cannot be combined with "
@@ -358,7 +340,7 @@ def _fit_rungs(args, heights, operators, data, z):
     settings = dict(**operators, marginal=marginal, seed=args.seed, block=args.block,
                     n_blocks=args.blocks, nu=nu, data=data, likelihood=args.likelihood)
     if args.rung == "auto":
-        _note_periodic_mark(args, heights, operators, z)
+        note_periodic_mark(args, heights, operators, z)
         print(f"choosing a model for {args.file} by the kriging of held-out measured points:")
         print(f"  {'model':<7} {'held-out RMSE (um)':>19} {'+-2 sd held':>12} {'seconds':>8}")
 
@@ -417,52 +399,6 @@ def _fit_field(args, heights, operators, data, z):
     return model
 
 
-def _note_periodic_mark(args, heights, operators, z) -> None:
-    """``--model auto`` on a map whose feed mark repeats: say that --model periodic describes
-    it (the ladder below is stationary; it is not among auto's choices, which krige)."""
-    if getattr(args, "fell_back", False):
-        return
-    from roughgp.surface_models.periodic_model import find_mark
-    try:
-        found = find_mark(z, heights.spacing, form=operators["form"],
-                          degree=operators["degree"], axis=operators["axis"])
-    except ValueError:
-        return
-    if found is not None:
-        direction, marks = found
-        print_wrapped(f"note: {args.file} holds a feed mark that repeats along {direction} "
-                      f"(feed {marks.feed:.5g} um; the mark of one half explains "
-                      f"{marks.reproducibility:.2f} of the other half's variance): --model "
-                      f"periodic describes it as a mark plus GPs; the stationary ladder below "
-                      f"draws its lines with random phases (the flaw of figure 7)")
-
-
-def _fit_periodic(args, heights, operators, data, z):
-    """``fit ground --model periodic``: the feed mark plus GPs
-    (roughgp.surface_models.periodic_model), or None where the map holds no mark (the caller
-    falls back to the ladder)."""
-    from roughgp.surface_models.periodic_model import NoPeriodError, fit_periodic_model
-    try:
-        fitted = fit_periodic_model(z, heights.spacing, **operators, feed=args.feed, data=data,
-                                    device=args.device)
-    except NoPeriodError as exc:
-        print_wrapped(f"{args.file}: no periodic feed mark: {exc}; falling back to --model "
-                      f"auto (the stationary ladder)")
-        return None
-    except ValueError as exc:
-        raise UsageError(f"{args.file}: {exc}") from None
-    model = fitted.model
-    print_wrapped(f"fitted to {args.file}: {model.describe()}")
-    print_wrapped(f"operators: {'; '.join(model.operators)} (the model describes the heights "
-                  f"after the F-operator; the filters are applied to its simulations)")
-    how = model.fit
-    print_wrapped(f"  {how['marks']} whole marks; the mark of one half of the map explains "
-                  f"{how['mark_reproducibility']:.3f} of the other half's variance; the trace "
-                  f"explains {how['mark_explained']:.4f} of the mean profile's, the rest "
-                  f"({how['trace_misfit_um2']:.3g} um^2) is not drawn")
-    return model
-
-
 def _print_mixture(model):
     """The 2-D spectral mixture's components, one line each, and the BIC of each Q tried."""
     hp = model.hyperparameters
@@ -496,7 +432,7 @@ def _fit_ground(args, heights, operators, data):
     if args.rung == "field":
         return _fit_field(args, heights, operators, data, z), found
     if args.rung == "periodic":
-        model = _fit_periodic(args, heights, operators, data, z)
+        model = fit_periodic_command(args, heights, operators, data, z)
         if model is not None:
             return model, found
         args.rung, args.fell_back = "auto", True

@@ -174,7 +174,8 @@ def add_parser(sub, formatter) -> None:
                          description=_TURNED, help="synthetic turned surface or profile")
     t.add_argument("--profile", type=integer("--profile"), metavar="N",
                    help="draw a profile of N points instead of a surface")
-    t.add_argument("--feed", type=float, metavar="F", help="feed per revolution, um (250)")
+    t.add_argument("--feed", type=float, metavar="F",
+                   help=f"feed per revolution, {bounds_text('--feed')} (250)")
     t.add_argument("--nose-radius", type=float, metavar="R", help="tool nose radius, um (800)")
     t.add_argument("--noise-sd", type=float, metavar="S",
                    help="instrument noise standard deviation, um (0.05)")

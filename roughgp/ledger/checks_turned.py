@@ -52,6 +52,19 @@ def check_dales_hills(full):
 
 # ------------------------------------------------------------------ figures 6, 7
 
+def _periodicity_figure(data, simulated, label, title):
+    """The data's periodicity at 1 .. 5 feeds against the simulations' mean and sd."""
+    fig, (ax,) = row_of_axes()
+    k = np.arange(1, len(data.mean_periodicity) + 1)
+    ax.plot(k, data.mean_periodicity, "ko-", label="data")
+    ax.errorbar(k, simulated.mean_periodicity, yerr=simulated.sd_periodicity, marker="o",
+                capsize=3, label=label)
+    ax.set(xlabel="lag (feeds)", ylabel="autocorrelation across the feed", xticks=k,
+           title=title)
+    ax.legend()
+    return fig
+
+
 def check_flaw(full):
     """Figure 7: the additive eq 22 (Q = 10 per direction) simulates surfaces with extra
     short wavelengths and a decreasing periodicity."""
@@ -60,14 +73,8 @@ def check_flaw(full):
     data_per, data_short = r.data_periodicity, r.data_short_share
     per, short = r.paper.mean_periodicity, r.paper.mean_short_share
     holds = all(turned_surface.flaw_shown(r.paper, r.data))
-    fig, (ax,) = row_of_axes()
+    fig = _periodicity_figure(r.data, r.paper, "simulations (eq 22)", "figure 7: periodicity")
     k = np.arange(1, len(data_per) + 1)
-    ax.plot(k, data_per, "ko-", label="data")
-    ax.errorbar(k, per, yerr=r.paper.sd_periodicity, marker="o", capsize=3,
-                label="simulations (eq 22)")
-    ax.set(xlabel="lag (feeds)", ylabel="autocorrelation across the feed", xticks=k,
-           title="figure 7: periodicity")
-    ax.legend()
     return Check(f"periodicity at {len(k)} feeds: data {data_per[-1]:.2f}, simulations "
                  f"{per[-1]:.2f}; short-wavelength share: data {data_short:.4f}, "
                  f"simulations {short:.4f}", bool(holds), fig)
@@ -98,14 +105,9 @@ def check_flaw_repaired(full):
     r = turned_repair.repaired_figure7(full)
     flaws = turned_surface.flaw_shown(r.draws, r.data)
     within = turned_repair.within_spread(r.draws, r.data)
-    fig, (ax,) = row_of_axes()
+    fig = _periodicity_figure(r.data, r.draws, "simulations (mark plus GPs)",
+                              "figure 7 repaired: periodicity")
     k = np.arange(1, len(r.data.mean_periodicity) + 1)
-    ax.plot(k, r.data.mean_periodicity, "ko-", label="data")
-    ax.errorbar(k, r.draws.mean_periodicity, yerr=r.draws.sd_periodicity, marker="o", capsize=3,
-                label="simulations (mark plus GPs)")
-    ax.set(xlabel="lag (feeds)", ylabel="autocorrelation across the feed", xticks=k,
-           title="figure 7 repaired: periodicity")
-    ax.legend()
     return Check(f"periodicity at {len(k)} feeds: data {r.data.mean_periodicity[-1]:.3f}, "
                  f"simulations {r.draws.mean_periodicity[-1]:.3f} (sd "
                  f"{r.draws.sd_periodicity[-1]:.3f}); short-wavelength share: data "

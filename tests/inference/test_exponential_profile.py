@@ -5,17 +5,12 @@ import numpy as np
 import pytest
 
 from roughgp.inference.exponential_profile import fit_exponential_profile
+from roughgp.surface_models.periodic_draw import ar1
 
 
 def _profile(n, variance, length, noise, seed):
     rng = np.random.default_rng(seed)
-    a = np.exp(-1.0 / length)
-    e = rng.standard_normal(n)
-    out = np.empty(n)
-    out[0] = e[0]
-    for i in range(1, n):
-        out[i] = a * out[i - 1] + np.sqrt(1 - a * a) * e[i]
-    return np.sqrt(variance) * out + rng.normal(0, np.sqrt(noise), n)
+    return ar1(n, np.sqrt(variance), np.exp(-1.0 / length), rng) + rng.normal(0, np.sqrt(noise), n)
 
 
 @pytest.mark.parametrize("length", [2.0, 10.0])

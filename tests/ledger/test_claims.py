@@ -100,6 +100,7 @@ def test_figures_are_saved_and_tables_written(monkeypatch, tmp_path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    plt.close("all")              # what an earlier test in this worker left open is not ours
 
     def with_figure(full):
         fig, ax = plt.subplots()

@@ -9,18 +9,13 @@ import pytest
 
 from roughgp.metrology.feed_marks import REPRODUCIBLE, NoPeriodError, feed_marks
 from roughgp.models import turned
+from roughgp.surface_models.periodic_draw import ar1
 
 
 def _ar1(n, length, rng):
     """A stationary profile of exponential ACVF (eq 18 in one dimension), correlation length
-    ``length`` samples."""
-    a = np.exp(-1.0 / length)
-    e = rng.standard_normal(n)
-    out = np.empty(n)
-    out[0] = e[0]
-    for i in range(1, n):
-        out[i] = a * out[i - 1] + np.sqrt(1 - a * a) * e[i]
-    return out
+    ``length`` samples (an AR(1) sequence)."""
+    return ar1(n, 1.0, np.exp(-1.0 / length), rng)
 
 
 @pytest.mark.parametrize("seed", range(4))
