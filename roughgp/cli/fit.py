@@ -205,8 +205,6 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     g.set_defaults(func=run)
 
 
-
-
 def run(args) -> int:
     """``roughgp fit MODEL FILE``."""
     _check_fit_device(args)

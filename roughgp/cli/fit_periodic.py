@@ -35,8 +35,6 @@ def fit_periodic_command(args, heights, operators, data, z):
     return model
 
 
-
-
 def fit_periodic_profile_command(args, z, spacing, how, heights, operators, data):
     """``fit profile --model periodic``: the feed mark plus GPs of a profile, or None where it
     holds no mark (the caller fits eq 21)."""
@@ -58,8 +56,6 @@ def fit_periodic_profile_command(args, z, spacing, how, heights, operators, data
     print_wrapped(f"  {how_fit['marks']} whole marks; the mark of one half of the profile "
                   f"explains {how_fit['mark_reproducibility']:.3f} of the other half's variance")
     return model
-
-
 
 
 def note_periodic_mark(args, heights, operators, z) -> None:

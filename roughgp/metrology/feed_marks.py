@@ -252,9 +252,10 @@ def _sharpened(mark):
     j = np.arange(n, dtype=np.float64)
     for flank, end in ((np.arange(n - far, n - near), np.arange(n - near, n)),
                        (np.arange(near, far), np.arange(0, near))):
-        quadratic = np.polyfit(j[flank], mark[flank], 2)
+        centre = j[flank].mean()   # centred: a well-conditioned fit
+        quadratic = np.polyfit(j[flank] - centre, mark[flank], 2)
         if quadratic[0] >= 0:       # convex: the rounded top of a cusp; concave ends are kept
-            out[end] = np.polyval(quadratic, j[end])
+            out[end] = np.polyval(quadratic, j[end] - centre)
     return out
 
 

@@ -25,7 +25,7 @@ __all__ = ["EXTREME_SCORE", "HEIGHT_LIMIT_UM", "extreme_height", "check_height_b
 
 #: the normal score at which a model's heights are bounded (a probability of 1e-9 per point)
 EXTREME_SCORE = 6.0
-#: the largest |height| a model may imply, um: the readers' (1 m)
+#: the largest absolute height a model may imply, um: the readers' (1 m)
 HEIGHT_LIMIT_UM = BOUNDS["height"]
 #: the field of each equation that sets its heights' scale
 _SCALE_FIELD = {"eq18": "variance_um2", "eq18-matern": "variance_um2", "sm2d": "weights_um2",
@@ -35,8 +35,8 @@ _SCALE_FIELD = {"eq18": "variance_um2", "eq18-matern": "variance_um2", "sm2d": "
 
 
 def extreme_height(model) -> tuple[float, str]:
-    """``(height, why)``: the largest |height| (um) ``model``'s draws reach at the normal score
-    :data:`EXTREME_SCORE`, and the fields it comes from, in words."""
+    """``(height, why)``: the largest absolute height (um) ``model``'s draws reach at the normal
+    score :data:`EXTREME_SCORE`, and the fields it comes from, in words."""
     mean = abs(float(model.hyperparameters.get("mean_um", 0.0)))
     if model.equation == "eq18-field":  # the roughest anchor, not the mean over them
         latent = max(max(row) for row in model.hyperparameters["variance_um2"])
