@@ -281,6 +281,11 @@ def plot_model_check(check: ModelCheck, path=None, *, title=None):
                      color=colour if p.outside else "black")
         ax.set_xlim(-1, 1)
         ax.set_xticks([])
+        ax.ticklabel_format(axis="y", useOffset=False)   # 90.008, not +8.999e1 and 0.008
+        if not np.isfinite(np.r_[p.simulated, p.measured]).any():
+            ax.text(0.5, 0.5, "undefined\non these\nsurfaces", ha="center", va="center",
+                    transform=ax.transAxes, fontsize=10, color="0.4")
+            ax.set_yticks([])
         ax.tick_params(labelsize=11)
     for ax in list(axes.flat)[n:]:
         ax.set_visible(False)

@@ -319,6 +319,9 @@ def _run_model(args) -> int:
     out, = check_outputs(("--out", args.out, "heights"), inputs=(("--from", args.model),),
                          force=args.force)
     model = load_model(args.model, "--from")
+    if args.shape is None and model.kind == "profile":
+        raise UsageError(f"the size is missing: --from {args.model} is a profile model: give "
+                         f"--shape 1 N (a profile of N points)")
     shape = _check_shape(args)
     if model.kind == "profile":
         if shape[0] != 1:
@@ -339,7 +342,8 @@ def _run_model(args) -> int:
         z = chain.sl
         err(f"through the rest of the chain ({model.stage} model): "
             f"{'; '.join(chain.operators)} (--model-stage: the draw before it)")
-    err(f"drawn in {time.perf_counter() - start:.2f} s; Sq = {np.std(z):.4g} um")
+    err(f"drawn in {time.perf_counter() - start:.2f} s; {'Rq' if z.ndim == 1 else 'Sq'} = "
+        f"{np.std(z):.4g} um")
     if len(spacing) == 2 and spacing[0] != spacing[1] and out.suffix.lower() == ".csv":
         raise UsageError("the model's spacing differs along y and x: a .csv stores one "
                          "spacing; write .x3p or .npy")
@@ -469,7 +473,8 @@ def run(args) -> int:
     if z.ndim == 2 and z.shape[0] == 1:
         z = z[0]  # one row: a profile along x
     _check_drawn(z)
-    err(f"drawn in {time.perf_counter() - start:.2f} s; Sq = {np.std(z):.4g} um")
+    err(f"drawn in {time.perf_counter() - start:.2f} s; {'Rq' if z.ndim == 1 else 'Sq'} = "
+        f"{np.std(z):.4g} um")
     if wanted is not None:
         _report_achieved(z, args.spacing, wanted)
     comment = f"roughgp simulate {args.kind} --seed {seed} --spacing {args.spacing:g}"
