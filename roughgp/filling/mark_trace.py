@@ -3,11 +3,11 @@ paper; issue 41).
 
 A fill with a periodic-mark model (:mod:`roughgp.surface_models.periodic_model`) kriges what
 the marks leave: the map's own marks are found at the model's feed and direction
-(:func:`roughgp.metrology.feed_marks.feed_marks` on the mean profile across the lay, each mark's
-depth row by row, :func:`~roughgp.metrology.feed_marks.row_depths`), their trace is taken off
-the measured heights, the rest is filled with the model's eq 18 and noise, and the trace is put
-back: in the holes the marks the map itself shows, moved and sunk as measured around them.
-This module sits below the models and reads the model's fields by name.
+(:func:`roughgp.metrology.feed_marks.map_marks`: those of the mean profile across the lay;
+each mark's depth row by row, :func:`~roughgp.metrology.feed_marks.row_depths`), their trace
+is taken off the measured heights, the rest is filled with the model's eq 18 and noise, and the
+trace is put back: in the holes the marks the map itself shows, moved and sunk as measured
+around them. This module sits below the models and reads the model's fields by name.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ import warnings
 
 import numpy as np
 
-from roughgp.metrology.feed_marks import feed_marks, row_depths
+from roughgp.metrology.feed_marks import map_marks, row_depths
 
 __all__ = ["PERIODIC_EQUATIONS", "map_trace", "roughness_kernel"]
 
@@ -34,11 +34,7 @@ def map_trace(residual, model, spacing) -> np.ndarray:
     step = spacing[0] if across else spacing[1]
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", "Mean of empty slice")
-        valid = np.isfinite(h)
-        count = valid.sum(axis=0)
-        profile = np.where(count > 0, np.where(valid, h, 0.0).sum(axis=0)
-                           / np.maximum(count, 1), np.nan)
-        marks = feed_marks(profile, step, feed=float(hp["feed_um"]))
+        marks = map_marks(h, step, feed=float(hp["feed_um"]))
         depths = row_depths(h, marks, step)
         fallback = np.nanmean(depths)
     depths = np.where(np.isfinite(depths), depths, fallback)

@@ -51,8 +51,8 @@ import numpy as np
 
 from roughgp.common.checks import check_positive
 
-__all__ = ["MIN_MARKS", "MIN_MARK_SAMPLES", "REPRODUCIBLE", "EDGE_SAMPLES", "NoPeriodError", "FeedMarks",
-           "feed_marks", "row_depths"]
+__all__ = ["MIN_MARKS", "MIN_MARK_SAMPLES", "REPRODUCIBLE", "EDGE_SAMPLES", "NoPeriodError",
+           "FeedMarks", "feed_marks", "map_marks", "row_depths"]
 
 #: the fewest marks a profile must hold (the halves of the test each hold two)
 MIN_MARKS = 4
@@ -335,6 +335,18 @@ def feed_marks(profile, spacing=1.0, *, feed=None) -> FeedMarks:
                             f"{REPRODUCIBLE} (a periodic machined profile: near its whole "
                             f"variance; the best period of the whole: {period:.4g} um)")
     return marks
+
+
+def map_marks(z, spacing=1.0, *, feed=None) -> FeedMarks:
+    """The feed marks of a surface ``z[iy, ix]`` whose marks run along y (across x): those of
+    its mean profile across the lay, the mean of each column's measured points (NaN where a
+    column has none)."""
+    z = np.asarray(z, dtype=np.float64)
+    valid = np.isfinite(z)
+    count = valid.sum(axis=0)
+    total = np.where(valid, z, 0.0).sum(axis=0)
+    profile = np.where(count > 0, total / np.maximum(count, 1), np.nan)
+    return feed_marks(profile, spacing, feed=feed)
 
 
 def row_depths(z, marks: FeedMarks, spacing=1.0) -> np.ndarray:

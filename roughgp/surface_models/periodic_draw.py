@@ -48,12 +48,7 @@ def ar1(count, sd, rho, rng, extra=()) -> np.ndarray:
     """``extra + (count,)`` stationary Gaussian AR(1) sequences of standard deviation ``sd``
     and lag-one correlation ``rho`` (along the last axis)."""
     white = rng.standard_normal(tuple(extra) + (count,))
-    out = np.empty_like(white)
-    out[..., 0] = white[..., 0]
-    scale = math.sqrt(1.0 - rho * rho)
-    for k in range(1, count):
-        out[..., k] = rho * out[..., k - 1] + scale * white[..., k]
-    return sd * out
+    return sd * np.moveaxis(ar1_across(np.moveaxis(white, -1, 0), rho), 0, -1)
 
 
 def lay_field(count, n, step, length, rng) -> np.ndarray:

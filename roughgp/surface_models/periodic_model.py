@@ -56,7 +56,13 @@ from roughgp.common.checks import surface_array
 from roughgp.common.grid import normalize
 from roughgp.inference.exponential_profile import fit_exponential_profile
 from roughgp.inference.whittle_fit import fit_whittle
-from roughgp.metrology.feed_marks import FeedMarks, NoPeriodError, feed_marks, row_depths
+from roughgp.metrology.feed_marks import (
+    FeedMarks,
+    NoPeriodError,
+    feed_marks,
+    map_marks,
+    row_depths,
+)
 from roughgp.metrology.filters import Texture
 from roughgp.surface_models.chain import measured_chain
 from roughgp.surface_models.model import FittedModel
@@ -124,16 +130,6 @@ def _central_crop(residual, limit):
     return residual[y0:y0 + cy, x0:x0 + cx]
 
 
-def _marks_along_x(h, dx, feed):
-    """The feed marks of the mean profile across the lay (the mean of each column's measured
-    points; NaN where a column has none)."""
-    valid = np.isfinite(h)
-    count = valid.sum(axis=0)
-    total = np.where(valid, h, 0.0).sum(axis=0)
-    profile = np.where(count > 0, total / np.maximum(count, 1), np.nan)
-    return feed_marks(profile, dx, feed=feed)
-
-
 def _whole_marks(marks: FeedMarks, length):
     """Which marks lie wholly inside [0, length)."""
     lo = marks.centres - marks.feed / 2
@@ -146,7 +142,7 @@ def _marks_both_ways(heights, dx, dy, feed, lay):
     for name in (("x", "y") if lay == "auto" else (lay,)):
         h, step, _ = frames[name]
         try:
-            found[name] = _marks_along_x(h, step, feed)
+            found[name] = map_marks(h, step, feed=feed)
         except NoPeriodError as exc:
             refusals.append(f"along {name}: {exc}")
     return frames, found, refusals
