@@ -16,10 +16,9 @@ from __future__ import annotations
 
 import argparse
 import datetime
-import json
 from pathlib import Path
 
-from roughgp.batch.engine import run_cases
+from roughgp.batch.engine import add_cluster_options, appending_records, run_cases
 from roughgp.common.atomic import atomic_output
 from roughgp.experiments.field_recovery import KINDS, RECORDED, load_records, recovery_table
 
@@ -38,10 +37,7 @@ def main(argv=None) -> int:
     parser.add_argument("--kinds", nargs="+", choices=KINDS, default=None,
                         help="kinds (default: all)")
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--workers", type=int, default=None,
-                        help="local worker processes (default: the cores)")
-    parser.add_argument("--scheduler", default=None,
-                        help="the address of an existing Dask scheduler (instead of --workers)")
+    add_cluster_options(parser)
     parser.add_argument("--out", type=Path, default=RECORDED)
     parser.add_argument("--report", action="store_true", help="write and print the table")
     args = parser.parse_args(argv)
@@ -61,18 +57,8 @@ def main(argv=None) -> int:
     todo = [(kind, i) for i in range(args.cases) for kind in (args.kinds or KINDS)
             if (kind, i, args.seed) not in done]
     print(f"{len(todo)} case(s) to run, {len(done)} recorded")
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    count = iter(range(1, len(todo) + 1))
-
-    def record(key, result):
-        if isinstance(result, BaseException):
-            print(f"{key}: failed: {result!r}", flush=True)
-            return
-        with open(args.out, "a") as handle:
-            handle.write(json.dumps(result) + "\n")
-        print(f"[{next(count)}/{len(todo)}] {key}: covered {result['covered']} "
-              f"({result['seconds']:.0f} s)", flush=True)
-
+    record = appending_records(
+        args.out, lambda r: f"covered {r['covered']} ({r['seconds']:.0f} s)", len(todo))
     run_cases(_run_case, [(f"{kind} {i}", (kind, i, args.seed), f"field-{kind}-{i}")
                           for kind, i in todo],
               workers=args.workers, scheduler=args.scheduler, on_result=record)

@@ -24,7 +24,7 @@ import argparse
 import json
 from pathlib import Path
 
-from roughgp.batch.engine import run_cases
+from roughgp.batch.engine import add_cluster_options, appending_records, run_cases
 from roughgp.experiments.turned_repair import RECORDED, load_records, summarise_records
 
 
@@ -67,10 +67,7 @@ def _timing() -> int:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--seeds", type=int, nargs="+", default=list(range(11, 19)))
-    parser.add_argument("--workers", type=int, default=None,
-                        help="local worker processes (default: the cores)")
-    parser.add_argument("--scheduler", default=None,
-                        help="the address of an existing Dask scheduler (instead of --workers)")
+    add_cluster_options(parser)
     parser.add_argument("--out", type=Path, default=RECORDED)
     parser.add_argument("--report", action="store_true", help="print the summary")
     parser.add_argument("--timing", action="store_true",
@@ -89,17 +86,9 @@ def main(argv=None) -> int:
     done = {r["seed"] for r in load_records(args.out)}
     todo = [s for s in args.seeds if s not in done]
     print(f"{len(todo)} surface(s) to run, {len(done)} recorded")
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-
-    def record(key, result):
-        if isinstance(result, BaseException):
-            print(f"{key}: failed: {result!r}", flush=True)
-            return
-        with open(args.out, "a") as handle:
-            handle.write(json.dumps(result) + "\n")
-        print(f"{key}: outside {result['outside']}, fit {result['fit_seconds']:.1f} s "
-              f"({result['seconds']:.0f} s)", flush=True)
-
+    record = appending_records(
+        args.out, lambda r: f"outside {r['outside']}, fit {r['fit_seconds']:.1f} s "
+                            f"({r['seconds']:.0f} s)", len(todo))
     run_cases(_run_case, [(f"seed {s}", (s,), f"turned-repair-{s}") for s in todo],
               workers=args.workers, scheduler=args.scheduler, on_result=record)
     return 0

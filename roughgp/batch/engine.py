@@ -26,6 +26,8 @@ from __future__ import annotations
 
 import dataclasses
 import glob
+import itertools
+import json
 import logging
 import os
 import time
@@ -36,7 +38,7 @@ from roughgp.batch.table import write_table
 from roughgp.common.digests import file_sha256
 
 __all__ = ["expand_inputs", "BatchResult", "run_batch", "run_cases", "BLAS_ENV", "default_workers",
-           "NOT_MEASUREMENTS"]
+           "NOT_MEASUREMENTS", "add_cluster_options", "appending_records"]
 
 #: the environment of each local worker process: one BLAS / OpenMP thread
 BLAS_ENV = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
@@ -171,6 +173,35 @@ def run_cases(function, cases, *, workers=None, scheduler=None, client=None, sta
             client.close()
             if cluster is not None:
                 cluster.close()
+
+
+def add_cluster_options(parser) -> None:
+    """``--workers N`` and ``--scheduler ADDRESS``, the cluster of :func:`run_cases`, on an
+    ``argparse`` parser (the benchmark scripts' long runs)."""
+    parser.add_argument("--workers", type=int, default=None,
+                        help="local worker processes (default: the cores)")
+    parser.add_argument("--scheduler", default=None,
+                        help="the address of an existing Dask scheduler (instead of --workers)")
+
+
+def appending_records(path, describe, total):
+    """An ``on_result`` for :func:`run_cases` that appends each case's record (a JSON-able
+    dict) to the JSON-lines file ``path`` as it ends, so that an interrupted run keeps what it
+    finished, and prints ``[i/total] key: describe(record)``; a case that failed is printed,
+    not recorded (a rerun runs it again)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    count = itertools.count(1)
+
+    def record(key, result):
+        if isinstance(result, BaseException):
+            print(f"{key}: failed: {result!r}", flush=True)
+            return
+        with open(path, "a", encoding="utf-8") as handle:
+            handle.write(json.dumps(result) + "\n")
+        print(f"[{next(count)}/{total}] {key}: {describe(result)}", flush=True)
+
+    return record
 
 
 def run_batch(files, plan: Plan, out, *, workers=None, scheduler=None, progress=None,

@@ -39,12 +39,14 @@ default, --form cylinder for a curved part), eq 18 plus white noise is fitted to
 measured points alone (block composite likelihood, roughgp.inference.block_fit) unless
 --model gives a model file of 'roughgp fit ground', the missing points get the GP posterior
 mean, and the form is added back. Before the fill, 2 % of the measured points (at most
-2000) are held out in small discs, filled without them and compared with their heights and
+5000) are held out in small discs, filled without them and compared with their heights and
 with linear interpolation (roughgp.filling.self_check): the self-check says
-whether the GP beats linear interpolation on this file, and calibrates the 95 % band of
---band; --nu auto fits 0.5, 1.5 and 2.5 and keeps the smoothness that fills the held-out
-points best (eq 18 unless another is better by more than one standard error); --no-check
-skips it. --method local (default: moving-window kriging,
+whether the GP beats linear interpolation on this file. The 95 % band of --band is then
+calibrated on held-out copies of the map's own holes, with one factor per size of hole and
+depth in it (roughgp.filling.hole_band); the command says up to which hole size it is
+calibrated, and widens it in larger holes; --nu auto fits 0.5, 1.5 and 2.5 and keeps the
+smoothness that fills the held-out points best (eq 18 unless another is better by more than
+one standard error); --no-check skips both. --method local (default: moving-window kriging,
 roughgp.filling.local_fill; bounded work, an exact sd per window, holds on real
 measurements) or global (all measured points: conjugate gradients with FFT products and
 --samples pathwise draws for the sd; for well-conditioned synthetic cases). --sd also
@@ -64,8 +66,8 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     f.add_argument("--sd", metavar="FILE", help="also write the posterior sd map")
     f.add_argument("--band", metavar="FILE",
                    help="also write the half-width of the 95 %% band of a new measurement at "
-                        "the filled points (calibrated by the self-check; Gaussian 1.96 sd "
-                        "with --no-check)")
+                        "the filled points (calibrated per size of hole and depth on held-out "
+                        "copies of the map's holes; Gaussian 1.96 sd with --no-check)")
     f.add_argument("--model", metavar="MODEL.json",
                    help="use this surface model file (roughgp fit ground: eq 18, Matern, or "
                         "the measured PSD, whose ACVF is the inverse DFT of its PSD) instead "
@@ -155,6 +157,8 @@ def run(args) -> int:
     for smoothness, check in result.self_checks.items():
         chosen = " <- used" if len(result.self_checks) > 1 and smoothness == result.nu else ""
         err(f"self-check: {check.summary()}{chosen}")
+    if result.hole_band is not None:
+        err(f"self-check: the {result.hole_band.summary(float(min(dy, dx)))}")
     if fit is not None:
         fit_seconds = time.perf_counter() - start - fill.seconds
         name = "eq 18" if result.nu == 0.5 else f"eq 18 with Matern nu {result.nu:g}"
@@ -195,13 +199,17 @@ def run(args) -> int:
         err(f"wrote {sd_out} (posterior sd of the latent surface at the filled points, 0 at "
             f"measured ones; median {np.median(sd):.3g} um, largest {sd.max():.3g} um)")
     if band_out is not None:
-        how = ("calibrated by the self-check" if result.self_check is not None
-               else "Gaussian, no self-check")
+        factors = result.band_factors[missing]
+        if result.hole_band is not None:
+            how = (f"{factors.min():.3g} to {factors.max():.3g} predictive sd, by size of hole "
+                   f"and depth, calibrated for holes up to "
+                   f"{result.hole_band.calibrated_width:.0f} points across")
+        else:
+            how = f"{result.band_factor:.3g} predictive sd (Gaussian, no self-check)"
         write_heights(band_out, result.band, spacing,
                       comment + f"; this file: the half-width of the 95 % band of a new "
-                      f"measurement, {result.band_factor:.3g} sd ({how})",
-                      source=heights.meta, spread=True)
-        err(f"wrote {band_out} (the 95 % band's half-width at the filled points: "
-            f"{result.band_factor:.3g} predictive sd, {how}; 0 at measured ones)")
+                      f"measurement, {how}", source=heights.meta, spread=True)
+        err(f"wrote {band_out} (the 95 % band's half-width at the filled points: {how}; 0 at "
+            f"measured ones)")
     write_flagged(flagged_out, found, args, heights)
     return 0

@@ -220,9 +220,12 @@ def remove_spurious(args, heights, form="plane"):
     if heights.z.ndim != 2:
         raise UsageError(f"--spurious: {args.file} holds a profile; the detection works on "
                          f"surfaces z[iy, ix]")
+    from roughgp.cli.pace import Pace
+    pace = Pace("--spurious rounds (at most; each fits the map and scores every point)",
+                "a smaller map or crop would")
     try:
         found = detect_spurious(heights.z, spacing=heights.spacing, form=form,
-                                seed=getattr(args, "seed", 0))
+                                seed=getattr(args, "seed", 0), progress=pace)
     except ValueError as exc:
         raise UsageError(f"--spurious: {args.file}: {exc}") from None
     removed = "removed (treated as unmeasured)" if found.count else "nothing removed"

@@ -1,15 +1,18 @@
 """A warning with an estimate before a long run: the pace of its first unit (a simulation, a
-bootstrap copy) times the units left, said once when the whole run would take longer than
-:data:`LONG_RUN_S`, with the options that shorten it. Argument handling and messages only.
+bootstrap copy, a detection round; or a pilot draw a sixteenth of the size) times the units
+left, said once when the whole run would take longer than :data:`LONG_RUN_S`, with the options
+that shorten it. Argument handling and messages only.
 """
 
 from __future__ import annotations
 
 import time
 
+import numpy as np
+
 from roughgp.cli.output import err
 
-__all__ = ["LONG_RUN_S", "Pace", "duration"]
+__all__ = ["LONG_RUN_S", "PILOT_FROM_POINTS", "Pace", "duration", "announce_long_draw"]
 
 #: a run longer than this (seconds, at the first unit's pace) is announced with its estimate
 LONG_RUN_S = 60.0
@@ -43,3 +46,27 @@ class Pace:
                     f"pace of the first ({self.shorter} make it shorter; Ctrl-C stops it)")
         if self.then is not None:
             self.then(done, total)
+
+
+#: draws of at least this many points are timed first on a pilot of a sixteenth of the points
+PILOT_FROM_POINTS = 2 ** 20
+
+
+def announce_long_draw(draw, shape) -> None:
+    """Before a draw of ``shape`` with :data:`PILOT_FROM_POINTS` points or more: time
+    ``draw(pilot shape)`` on a pilot a quarter as long along each axis and, where the whole
+    would take longer than :data:`LONG_RUN_S` at that pace, say so with the estimate (a model
+    whose draws refuse the pilot's size is left unannounced)."""
+    if int(np.prod(shape)) < PILOT_FROM_POINTS:
+        return
+    pilot = tuple(max(n // 4, 2) for n in shape)
+    start = time.perf_counter()
+    try:
+        draw(pilot)
+    except (ValueError, MemoryError):
+        return
+    estimate = (time.perf_counter() - start) * np.prod(shape) / np.prod(pilot) * 1.2
+    if estimate > LONG_RUN_S:
+        err(f"warning: this draw takes about {duration(estimate)} at the pace of one of "
+            f"{' x '.join(map(str, pilot))} points (a smaller --shape makes it shorter; "
+            f"Ctrl-C stops it)")

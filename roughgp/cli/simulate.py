@@ -333,6 +333,8 @@ def _run_model(args) -> int:
     spacing = model.spacing if args.spacing is None else (args.spacing,) * len(model.spacing)
     seed = seed_or_fresh(args.seed)
     err(f"drawing {' x '.join(map(str, shape))} points from {args.model}: {model.describe()}")
+    from roughgp.cli.pace import announce_long_draw
+    announce_long_draw(lambda pilot: simulate(model, pilot, seed=seed, spacing=spacing), shape)
     start = time.perf_counter()
     z = simulate(model, shape, seed=seed, spacing=spacing)
     _check_drawn(z)

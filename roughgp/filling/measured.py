@@ -21,7 +21,9 @@ converge on such measurements (``gaps.converged`` says so).
 ``self_check=True`` holds out 2 % of the measured points first (at most 5000), fits
 without them, fills them and compares with their heights and with linear interpolation
 (:mod:`roughgp.filling.self_check`): it says whether the fill beats linear
-interpolation on this file and calibrates the band (:attr:`MeasuredFill.band_factor`).
+interpolation on this file. The band is then calibrated on held-out copies of the map's own
+holes, one factor per size of hole and depth in it (:mod:`roughgp.filling.hole_band`,
+:attr:`MeasuredFill.band`).
 ``nu="auto"`` does that for each of ``NU_CHOICES`` and keeps the smoothness that fills the
 held-out points best (eq 18 unless another is clearly better:
 :func:`~roughgp.filling.self_check.choose_nu`). The fill itself then uses all
@@ -37,6 +39,7 @@ import numpy as np
 from roughgp.common.checks import boolean_map, surface_array
 from roughgp.common.grid import normalize
 from roughgp.filling.global_fill import GapFill, fill_gaps
+from roughgp.filling.hole_band import HoleBand, calibrate_hole_band
 from roughgp.filling.local_fill import LocalFill, fill_gaps_locally
 from roughgp.filling.mark_trace import PERIODIC_EQUATIONS, map_trace, roughness_kernel
 from roughgp.filling.self_check import (
@@ -76,6 +79,8 @@ class MeasuredFill:
         nu: the smoothness of the kernel used (the fitted or the model's).
         self_checks: ``{nu: FillSelfCheck}`` of the smoothness values checked (empty without
             a self-check); self_check: that of ``nu`` (None without).
+        hole_band: the band's factor per size of hole and depth in it
+            (:mod:`roughgp.filling.hole_band`), calibrated with the self-check (None without).
     """
 
     filled: np.ndarray
@@ -89,6 +94,7 @@ class MeasuredFill:
     method: str = "local"
     nu: float = 0.5
     self_checks: dict = dataclasses.field(default_factory=dict)
+    hole_band: HoleBand | None = None
 
     @property
     def self_check(self) -> FillSelfCheck | None:
@@ -97,8 +103,19 @@ class MeasuredFill:
     @property
     def band_factor(self) -> float:
         """:math:`k` of the 95 % band ``+- k sqrt(sd^2 + sigma^2)`` of a new measurement at a
-        filled point: calibrated by the self-check where there was one, else Gaussian (1.96)."""
+        filled point as the self-check's small discs calibrate it, else Gaussian (1.96). The
+        band itself (:attr:`band`) takes its factor from the size of each hole and the depth
+        in it where the self-check ran (:attr:`band_factors`)."""
         return GAUSSIAN_FACTOR if self.self_check is None else self.self_check.band_factor
+
+    @property
+    def band_factors(self) -> np.ndarray:
+        """The band's factor at each filled point (0 at measured ones): by the size of its hole
+        and its depth in it (:attr:`hole_band`) where the self-check ran, else
+        :attr:`band_factor`."""
+        if self.hole_band is None:
+            return np.where(self.missing, self.band_factor, 0.0)
+        return self.hole_band.factor_map(self.missing)
 
     @property
     def predictive_sd(self) -> np.ndarray:
@@ -109,7 +126,7 @@ class MeasuredFill:
     @property
     def band(self) -> np.ndarray:
         """The half-width of that band at the filled points (0 at measured ones)."""
-        return np.where(self.missing, self.band_factor * self.predictive_sd, 0.0)
+        return self.band_factors * self.predictive_sd
 
 
 def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, n_blocks=12,
@@ -199,6 +216,11 @@ def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, 
                                          spacing=(dy, dx), held_out=held_out, nu=nu,
                                          margin=margin,
                                          kernel_name=f"the model's {model.equation}")
+    hole_band = None
+    if held_out is not None:
+        hole_band = calibrate_hole_band(residual, kernel, noise_variance=noise_variance,
+                                        spacing=(dy, dx), seed=seed, tile=tile,
+                                        margin=margin)
     if method == "local":
         gaps = fill_gaps_locally(residual, kernel, noise_variance=noise_variance,
                                  spacing=(dy, dx), mask=mask, tile=tile, margin=margin)
@@ -210,4 +232,4 @@ def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, 
     sd = np.where(missing, gaps.sd, 0.0)
     return MeasuredFill(filled=filled, sd=sd, missing=missing, form=form_fit, fit=fit,
                         kernel=kernel, noise_variance=float(noise_variance), gaps=gaps,
-                        method=method, nu=float(nu), self_checks=checks)
+                        method=method, nu=float(nu), self_checks=checks, hole_band=hole_band)

@@ -186,8 +186,8 @@ class FillSelfCheck:
         kernel = self.kernel_name or f"nu {self.nu:g}"
         return (f"{self.n_points} measured points held out and filled ({kernel}): RMSE "
                 f"GP {r['GP']:.4g} {unit}, linear interpolation {r['linear']:.4g} {unit} "
-                f"({verdict}); +-2 sd held {self.coverage():.1%}; the calibrated 95 % band is "
-                f"+-{self.band_factor:.3g} sd"
+                f"({verdict}); +-2 sd held {self.coverage():.1%}; one factor for 95 % of these "
+                f"points: +-{self.band_factor:.3g} sd"
                 + (f" ({self.baseline_note})" if self.baseline_note else ""))
 
 

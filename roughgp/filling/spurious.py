@@ -277,7 +277,7 @@ def noise_floor(residual) -> float:
 
 def detect_spurious(z, *, spacing=1.0, form="plane", degree=2, axis="auto",
                     threshold=THRESHOLD, rounds=ROUNDS, seed=0, block=24, n_blocks=12,
-                    tile=8, margin=6, floor=True) -> SpuriousPoints:
+                    tile=8, margin=6, floor=True, progress=None) -> SpuriousPoints:
     """Flag the spurious measured points of a surface ``z[iy, ix]`` (NaN: unmeasured) by the
     GP's LOO scores under a fit that leaves out the flagged points (module docstring).
 
@@ -294,6 +294,7 @@ def detect_spurious(z, *, spacing=1.0, form="plane", degree=2, axis="auto",
         tile, margin: the scoring windows (points).
         floor: score with the noise variance at least :func:`noise_floor` of the heights
             (module docstring); False: the fitted one, however small.
+        progress: optional callback ``(rounds done, rounds at most)`` after each round.
     """
     start = time.perf_counter()
     z = surface_array(z)
@@ -318,6 +319,8 @@ def detect_spurious(z, *, spacing=1.0, form="plane", degree=2, axis="auto",
             first = (beyond, time.perf_counter() - start, float(fit.noise_variance))
         grown = excluded | beyond
         history.append(int(grown.sum()))
+        if progress is not None:
+            progress(len(history), rounds)
         if np.array_equal(grown, excluded):  # no new point: the last fit is final
             converged = True
             break

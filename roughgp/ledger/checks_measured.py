@@ -91,7 +91,7 @@ def check_measured_fill(full):
     text = "; ".join(f"{name}: RMSE GP (nu {cv.nu:g}) {cv.rmse['GP']:.3g}, linear "
                      f"{cv.rmse['linear']:.3g}, cubic {cv.rmse['cubic']:.3g} um at "
                      f"{int(cv.hidden.sum())} hidden points, the calibrated band "
-                     f"(+-{cv.band_factor:.2f} sd) covers {cv.calibrated_coverage:.1%}"
+                     f"(by hole size and depth) covers {cv.calibrated_coverage:.1%}"
                      for name, cv in cvs.items())
     return Check(text, bool(holds), _fill_figure(cvs))
 
@@ -106,7 +106,7 @@ def _fill_figure(cvs):
                [cv.rmse[method] / cv.rmse["linear"] for cv in cvs.values()], width,
                label=method)
     ax.set_xticks(np.arange(len(cvs)) + width,
-                  [f"{k}\n{cv.calibrated_coverage:.1%} in +-{cv.band_factor:.2f} sd"
+                  [f"{k}\n{cv.calibrated_coverage:.1%} in the band"
                    for k, cv in cvs.items()], fontsize=7)
     ax.set(ylabel="RMSE at hidden points / linear's", title="cross-validated fill")
     ax.legend(fontsize=7)

@@ -362,18 +362,19 @@ def test_fill_checks_itself_chooses_nu_and_writes_the_calibrated_band(capsys, tm
     code, _, err = _run(capsys, "fill", path, "--out", out, "--band", band, "--nu", "auto",
                         "--block", 12, "--blocks", 6, "--seed", 1)
     assert code == 0, err
-    checks = [line for line in err.splitlines() if line.startswith("self-check: ")]
+    checks = [line for line in err.splitlines() if line.startswith("self-check: ")
+              and "measured points held out and filled" in line]
     assert len(checks) == 3 and sum("<- used" in line for line in checks) == 1
-    assert all("measured points held out and filled" in line for line in checks)
     half = np.load(band)
     missing = np.isnan(z)
     assert np.all(half[~missing] == 0) and np.all(half[missing] > 0)
-    assert "calibrated by the self-check" in err
+    assert "self-check: the band calibrated by hole size and depth" in err
+    assert "predictive sd, by size of hole and depth, calibrated for holes up to" in err
     # --no-check: no self-check, the Gaussian band
     code, _, err = _run(capsys, "fill", path, "--out", tmp_path / "plain.npy", "--band",
                         tmp_path / "plain-band.npy", "--no-check", "--block", 12, "--blocks", 6)
     assert code == 0, err
-    assert "self-check: " not in err and "1.96 predictive sd, Gaussian, no self-check" in err
+    assert "self-check: " not in err and "1.96 predictive sd (Gaussian, no self-check)" in err
 
 
 @pytest.mark.parametrize("extra, message", [

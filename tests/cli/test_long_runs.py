@@ -1,6 +1,7 @@
 """Issue 44 part 2, unbounded runs: ``check`` (plain or ``--calibrate``) says, after its first
 simulation or bootstrap copy, how long the whole run will take at that pace when it is long,
-naming the options that shorten it (roughgp.cli.pace)."""
+naming the options that shorten it (roughgp.cli.pace); ``--spurious`` after its first round,
+``simulate --from`` after a pilot draw."""
 
 from __future__ import annotations
 
@@ -47,3 +48,38 @@ def test_a_short_check_says_nothing_of_its_length(capsys, model_and_map):
 
 def test_durations_in_words():
     assert [pace.duration(s) for s in (45, 200, 7200)] == ["45 s", "3.3 min", "2.0 h"]
+
+
+def test_a_long_spurious_detection_is_announced_without_an_option_it_lacks(capsys, monkeypatch,
+                                                                          tmp_path):
+    """``texture --spurious`` (a 1024² map took minutes) says after its first round how long
+    its rounds may take, and names no option texture does not have."""
+    from roughgp.models import surfaces
+    monkeypatch.setattr(pace, "LONG_RUN_S", -1.0)
+    z = surfaces.ground((48, 48), variance=1.0, lengthscales=(4.0, 2.0), angle=0.0,
+                        noise_variance=0.01, seed=2)
+    z[10, 10] += 8.0
+    np.save(tmp_path / "spiky.npy", z)
+    code, _, err = _run(capsys, "texture", tmp_path / "spiky.npy", "--spurious")
+    assert code == 0, err
+    assert "--spurious rounds (at most; each fits the map and scores every point) take " \
+        "about" in err and "a smaller map or crop would make it shorter" in err
+    assert err.count("take about") == 1
+
+
+def test_a_long_draw_from_a_model_is_announced_after_a_pilot(capsys, monkeypatch, model_and_map,
+                                                              tmp_path):
+    """``simulate --from`` at 2048² took two minutes unannounced: a large draw is timed on a
+    pilot a sixteenth of its size first, and announced when long."""
+    monkeypatch.setattr(pace, "LONG_RUN_S", -1.0)
+    monkeypatch.setattr(pace, "PILOT_FROM_POINTS", 64 * 64)
+    model, _ = model_and_map
+    code, _, err = _run(capsys, "simulate", "--from", model, "--shape", 64, 64, "--out",
+                        tmp_path / "big.npy", "--seed", 1)
+    assert code == 0, err
+    assert "warning: this draw takes about" in err and "16 x 16 points" in err
+    assert "a smaller --shape makes it shorter" in err
+    monkeypatch.setattr(pace, "LONG_RUN_S", 60.0)
+    code, _, err = _run(capsys, "simulate", "--from", model, "--shape", 64, 64, "--out",
+                        tmp_path / "big2.npy", "--seed", 1)
+    assert code == 0 and "takes about" not in err, err

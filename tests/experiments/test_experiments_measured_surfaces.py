@@ -74,6 +74,6 @@ def test_the_chapter_tables_convert_to_the_shown_unit():
     assert [r["file"] for r in rows] == [ms.LAND_FILE, "sur-2.sur"]
     assert rows[0]["unit"] == "µm" and rows[0]["RMSE GP"] == 0.001
     assert rows[1]["unit"] == "nm" and rows[1]["RMSE cubic"] == 4.0
-    assert rows[1]["median |error| linear"] == 0.6 and rows[1]["in ±k sd"] == 0.95
+    assert rows[1]["median |error| linear"] == 0.6 and rows[1]["in the band"] == 0.95
     checks = ms.self_check_rows(cvs)
     assert checks[1]["GP, ν = 1.5"] == 2.0 and checks[1]["linear"] == 3.0

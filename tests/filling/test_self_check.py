@@ -170,8 +170,11 @@ def test_fill_with_nu_auto_picks_a_smooth_kernel_for_a_smooth_surface():
     assert result.fit.nu == result.nu and result.self_check is checks[result.nu]
     band = result.band
     assert np.all(band[~result.missing] == 0) and np.all(band[result.missing] > 0)
-    np.testing.assert_allclose(band[result.missing], result.band_factor * np.sqrt(
-        result.sd[result.missing] ** 2 + result.noise_variance))
+    # the band's factor by hole size and depth (roughgp.filling.hole_band) times the sd
+    np.testing.assert_allclose(band[result.missing],
+                               result.hole_band.factor_map(result.missing)[result.missing]
+                               * np.sqrt(result.sd[result.missing] ** 2
+                                         + result.noise_variance))
     # without a self-check the band is the Gaussian one and nothing is held out
     plain = fill_measured_surface(z, seed=0, block=16, n_blocks=6)
     assert plain.self_check is None and plain.band_factor == sc.GAUSSIAN_FACTOR

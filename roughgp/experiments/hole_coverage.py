@@ -1,0 +1,111 @@
+"""Does the fill's 95 % band hold 95 % of the heights in holes of every size? (beyond the paper;
+issue 44).
+
+On each map of ``data/`` (its central 256 x 256 points,
+:func:`~roughgp.experiments.model_ladder.crop_window`), measured points are removed in discs of four size classes
+(:data:`HOLE_CLASSES`: 2-5, 6-10, 11-20 and 21-40 points across, at random places, the true
+heights kept aside), the map is filled as ``roughgp fill --band`` fills it
+(:func:`~roughgp.filling.measured.fill_measured_surface` with its self-check), and the share of
+the true heights inside the band is counted per class: for the band calibrated by hole size
+and depth (:mod:`roughgp.filling.hole_band`) and for the one factor of the self-check's small
+discs it replaced. The holes of one class err together, so a case holds few independent large
+holes: the recorded run pools many seeds per map (``benchmarks/hole_coverage.py``).
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from roughgp.common.jsonl import read_records
+from roughgp.experiments.model_ladder import crop_window
+from roughgp.experiments.real_maps import DATA, REAL_MAPS
+
+__all__ = ["HOLE_CLASSES", "CROP", "RECORDED", "TARGET", "punch_holes", "coverage_case",
+           "load_records", "coverage_table"]
+
+#: ``(smallest, largest points across, holes per case)`` of each class
+HOLE_CLASSES = ((2, 5, 30), (6, 10, 12), (11, 20, 5), (21, 40, 3))
+CROP = 256            #: the maps' central crop (points)
+TARGET = (0.93, 0.97)  #: the issue's target coverage per class (of a 95 % band)
+RECORDED = DATA.parent / "benchmarks" / "results" / "hole_coverage.jsonl"
+
+
+def punch_holes(valid, seed) -> np.ndarray:
+    """The map of hole classes (0: kept; ``c`` for the ``c``-th class of :data:`HOLE_CLASSES`):
+    discs of random width in each class's range at random places, each over measured points
+    (``valid``) not in another disc."""
+    valid = np.asarray(valid, dtype=bool)
+    rng = np.random.default_rng(seed)
+    classes = np.zeros(valid.shape, dtype=np.int64)
+    iy, ix = np.indices(valid.shape)
+    for c, (lo, hi, count) in enumerate(HOLE_CLASSES, 1):
+        for _ in range(count):
+            width = int(rng.integers(lo, hi + 1))
+            cy, cx = rng.integers(0, valid.shape[0]), rng.integers(0, valid.shape[1])
+            offset = 0.5 * (width % 2 == 0)       # an even width is centred between points
+            disc = (iy - cy + offset) ** 2 + (ix - cx + offset) ** 2 <= (width / 2) ** 2
+            classes[disc & valid & (classes == 0)] = c
+    return classes
+
+
+def coverage_case(name: str, seed: int) -> dict:
+    """One case: the map ``name`` of ``data/`` holed by :func:`punch_holes` (``seed``), filled
+    with its self-check (the same ``seed``); per hole class the points, the true heights inside
+    the band (``inside``) and inside the self-check's one-factor band (``inside_one_factor``);
+    the width the band was calibrated up to, and the seconds."""
+    from roughgp.filling.measured import fill_measured_surface
+    from roughgp.io.measurement import read_measurement
+
+    entry = next(e for e in REAL_MAPS if e.name == name)
+    m = read_measurement(entry.path)
+    r0, c0, rows, cols = crop_window(m.z.shape, CROP)
+    z = np.asarray(m.z, dtype=np.float64)[r0:r0 + rows, c0:c0 + cols]
+    classes = punch_holes(np.isfinite(z), seed)
+    start = time.perf_counter()
+    fill = fill_measured_surface(np.where(classes > 0, np.nan, z), spacing=m.spacing, seed=seed,
+                                 self_check=True)
+    seconds = time.perf_counter() - start
+    error = np.abs(fill.filled - z)
+    one_factor = fill.band_factor * fill.predictive_sd
+    record = {"map": name, "seed": int(seed), "shape": list(z.shape), "seconds": seconds,
+              "calibrated_width": fill.hole_band.calibrated_width,
+              "uncalibrated": list(fill.hole_band.uncalibrated_classes), "classes": []}
+    for c, (lo, hi, _) in enumerate(HOLE_CLASSES, 1):
+        inside = classes == c
+        record["classes"].append({
+            "across": [lo, hi], "points": int(inside.sum()),
+            "inside": int(np.sum(error[inside] <= fill.band[inside])),
+            "inside_one_factor": int(np.sum(error[inside] <= one_factor[inside]))})
+    return record
+
+
+def load_records(path=RECORDED) -> list[dict]:
+    """The recorded cases (``benchmarks/hole_coverage.py``)."""
+    return read_records(path) if path.exists() else []
+
+
+def coverage_table(records) -> list[dict]:
+    """Per map and hole class, pooled over the seeds: the points, the cases, the coverage of
+    the band by hole size and depth and of the one-factor band, and whether the former is
+    within :data:`TARGET`."""
+    rows = {}
+    for record in records:
+        for entry in record["classes"]:
+            key = (record["map"], tuple(entry["across"]))
+            row = rows.setdefault(key, {"map": record["map"], "across": tuple(entry["across"]),
+                                        "cases": 0, "points": 0, "inside": 0,
+                                        "inside_one_factor": 0})
+            row["cases"] += 1
+            for field in ("points", "inside", "inside_one_factor"):
+                row[field] += entry[field]
+    table = []
+    for row in rows.values():
+        if row["points"] == 0:
+            continue
+        row["coverage"] = row["inside"] / row["points"]
+        row["coverage_one_factor"] = row["inside_one_factor"] / row["points"]
+        row["on_target"] = TARGET[0] <= row["coverage"] <= TARGET[1]
+        table.append(row)
+    return table
