@@ -227,11 +227,16 @@ def _predict_smooth(acvf, shape, spacing, **options):
     factor = max(1, math.ceil(math.sqrt(ratio) if len(shape) == 2 else ratio))
     coarse = tuple(math.ceil((n - 1) / factor) + 1 for n in shape)
     coarse_spacing = tuple(d * factor for d in spacing)
-    found = tapering.search_margins(acvf, coarse, coarse_spacing, **options)
-    # the same outer extent of taper on the fine grid (the coarse grid's lags reach a bit further)
-    margins = tuple(k * factor + (c - 1) * factor - (n - 1)
-                    for k, c, n in zip(found[0], coarse, shape))
-    return tapering.torus_of(shape, margins), (found if factor == 1 else None)
+    def fine(coarse_margins):
+        # the same outer extent of taper on the fine grid (the coarse grid's lags reach a bit
+        # further)
+        return tuple(k * factor + (c - 1) * factor - (n - 1)
+                     for k, c, n in zip(coarse_margins, coarse, shape))
+
+    implied = None if factor == 1 else (shape, spacing,
+                                        lambda m: tapering.torus_of(shape, fine(m)))
+    found = tapering.search_margins(acvf, coarse, coarse_spacing, implied=implied, **options)
+    return tapering.torus_of(shape, fine(found[0])), (found if factor == 1 else None)
 
 
 def _check_truncation(truncation):

@@ -77,3 +77,24 @@ def test_an_invalid_acvf_is_refused_without_growing_the_torus_to_its_limit():
     for length in (1000.0, 1e5):
         emb = circulant.embed(lambda lags: np.exp(-np.abs(lags[..., 0]) / length), (2048,))
         assert emb.exact and emb.min_eigenvalue >= -1e-10
+
+
+def test_a_grid_whose_torus_is_too_large_is_refused_on_the_coarse_copy(monkeypatch):
+    """4096² with lambda_a 5000 (`simulate ground`) took 26 s to refuse: the coarse copy's
+    search doubled its small tori up to max_points while the fine torus they implied was
+    already too large. Now it stops at the first failing margins whose fine torus is too large,
+    and a case searched on a coarse copy whose fine torus fits still embeds."""
+    calls = []
+    eigenvalues = truncation.tapered_eigenvalues
+    monkeypatch.setattr(truncation, "tapered_eigenvalues",
+                        lambda *a, **k: calls.append(a[1]) or eigenvalues(*a, **k))
+    kernel = RotatedExponentialKernel(variance=10.0, lengthscales=(5000.0, 5.0),
+                                      angle=math.pi / 6)
+    with pytest.raises(truncation.NotEmbeddableError, match="no torus could be tried") as caught:
+        circulant.embed(kernel.acvf, (4096, 4096))
+    assert "(4096, 4096)" in str(caught.value)
+    assert len(calls) <= 8 and max(np.prod(t) for t in calls) < 2 ** 22   # coarse tori only
+    calls.clear()
+    shorter = RotatedExponentialKernel(variance=10.0, lengthscales=(60.0, 5.0), angle=math.pi / 6)
+    emb = circulant.embed(shorter.acvf, (1024, 1024))   # a coarse search that fits
+    assert emb.exact
