@@ -160,7 +160,8 @@ def run(args) -> int:
     if result.hole_band is not None:
         err(f"self-check: the {result.hole_band.summary(float(min(dy, dx)))}")
     if fit is not None:
-        fit_seconds = time.perf_counter() - start - fill.seconds
+        fit_seconds = (time.perf_counter() - start - fill.seconds
+                       - (result.hole_band.seconds if result.hole_band is not None else 0.0))
         name = "eq 18" if result.nu == 0.5 else f"eq 18 with Matern nu {result.nu:g}"
         used = (f"{name} plus white noise fitted to the measured points "
                 f"({describe_groove(fit.groove)}, noise variance {fit.noise_variance:.4g} um^2)")
