@@ -2,7 +2,8 @@
 issue 44).
 
 On each map of ``data/`` (its central 256 x 256 points,
-:func:`~roughgp.experiments.model_ladder.crop_window`), measured points are removed in discs of four size classes
+:func:`~roughgp.experiments.real_maps.central_crop`), measured points are removed in discs of
+four size classes
 (:data:`HOLE_CLASSES`: 2-5, 6-10, 11-20 and 21-40 points across, at random places, the true
 heights kept aside), the map is filled as ``roughgp fill --band`` fills it
 (:func:`~roughgp.filling.measured.fill_measured_surface` with its self-check), and the share of
@@ -19,8 +20,7 @@ import time
 import numpy as np
 
 from roughgp.common.jsonl import read_records
-from roughgp.experiments.model_ladder import crop_window
-from roughgp.experiments.real_maps import DATA, REAL_MAPS
+from roughgp.experiments.real_maps import DATA, central_crop
 
 __all__ = ["HOLE_CLASSES", "CROP", "RECORDED", "TARGET", "punch_holes", "coverage_case",
            "load_records", "coverage_table"]
@@ -56,18 +56,15 @@ def coverage_case(name: str, seed: int) -> dict:
     the band (``inside``) and inside the self-check's one-factor band (``inside_one_factor``);
     the width the band was calibrated up to, and the seconds."""
     from roughgp.filling.measured import fill_measured_surface
-    from roughgp.io.measurement import read_measurement
 
-    entry = next(e for e in REAL_MAPS if e.name == name)
-    m = read_measurement(entry.path)
-    r0, c0, rows, cols = crop_window(m.z.shape, CROP)
-    z = np.asarray(m.z, dtype=np.float64)[r0:r0 + rows, c0:c0 + cols]
+    z, spacing, _ = central_crop(name, CROP)
+    z = np.asarray(z, dtype=np.float64)
     classes = punch_holes(np.isfinite(z), seed)
     start = time.perf_counter()
-    fill = fill_measured_surface(np.where(classes > 0, np.nan, z), spacing=m.spacing, seed=seed,
+    fill = fill_measured_surface(np.where(classes > 0, np.nan, z), spacing=spacing, seed=seed,
                                  self_check=True)
     seconds = time.perf_counter() - start
-    error = np.abs(fill.filled - z)
+    error, band = np.abs(fill.filled - z), fill.band
     one_factor = fill.band_factor * fill.predictive_sd
     record = {"map": name, "seed": int(seed), "shape": list(z.shape), "seconds": seconds,
               "calibrated_width": fill.hole_band.calibrated_width,
@@ -76,7 +73,7 @@ def coverage_case(name: str, seed: int) -> dict:
         inside = classes == c
         record["classes"].append({
             "across": [lo, hi], "points": int(inside.sum()),
-            "inside": int(np.sum(error[inside] <= fill.band[inside])),
+            "inside": int(np.sum(error[inside] <= band[inside])),
             "inside_one_factor": int(np.sum(error[inside] <= one_factor[inside]))})
     return record
 

@@ -43,14 +43,13 @@ import numpy as np
 
 from roughgp.checking.model_check import SURFACE_PARAMETERS, check_model
 from roughgp.common.settings import pick
-from roughgp.experiments.real_maps import REAL_MAPS, real_file
+from roughgp.experiments.real_maps import REAL_MAPS, central_crop, real_file
 from roughgp.filling.self_check import held_out_points, self_check_fill
-from roughgp.io.measurement import read_measurement
 from roughgp.surface_models.chain import form_removed
 from roughgp.surface_models.fit import fit_psd_model, fit_sm_model, fit_surface_model
 
 __all__ = ["Rung", "RUNGS", "PSD_MARGINALS", "SM_MARGINALS", "QUICK_RUNGS", "QUICK_FILES", "FORMS",
-           "MAX_OUTSIDE", "TARGET_SHARE", "crop_size", "crop_window", "RECORDED",
+           "MAX_OUTSIDE", "TARGET_SHARE", "crop_size", "RECORDED",
            "recorded_ladder", "RungResult", "run_rung", "Ladder", "model_ladder", "reasons",
            "verdict_lines", "markdown_table", "plot_ladder", "TAILS", "AMPLITUDE", "SPATIAL"]
 
@@ -135,15 +134,6 @@ def crop_size(full=None) -> int:
     """The side of the central crop of each map: 128 quick, 256 at full size
     (:func:`roughgp.common.settings.pick`)."""
     return pick(128, 256, full=full)
-
-
-def crop_window(shape, size) -> tuple:
-    """``(first row, first column, rows, columns)`` of the central ``size`` x ``size`` points
-    of a map of ``shape`` (the whole of an axis shorter than ``size``)."""
-    if int(size) < 16:
-        raise ValueError(f"size must be >= 16 points, got {size!r}")
-    rows, cols = (min(int(n), int(size)) for n in shape)
-    return ((shape[0] - rows) // 2, (shape[1] - cols) // 2, rows, cols)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -349,12 +339,6 @@ def recorded_ladder(path=RECORDED, size=128) -> Ladder:
     return Ladder.from_records(records, size)
 
 
-def _crop(name, size):
-    m = read_measurement(real_file(name).path)
-    r0, c0, rows, cols = crop_window(m.z.shape, size)
-    return m.z[r0:r0 + rows, c0:c0 + cols], m.spacing, (r0, c0, rows, cols)
-
-
 def model_ladder(files=None, rungs=None, *, size=None, seed=0, n_simulations=19,
                  full=None, progress=None) -> Ladder:
     """Every rung of ``rungs`` (names; default :data:`QUICK_RUNGS` quick, all of
@@ -372,7 +356,7 @@ def model_ladder(files=None, rungs=None, *, size=None, seed=0, n_simulations=19,
     start = time.perf_counter()
     results = []
     for name in files:
-        z, spacing, window = _crop(name, size)
+        z, spacing, window = central_crop(name, size)
         for rung in rungs:
             result = run_rung(z, spacing, rung, file=name, window=window,
                               form=FORMS.get(name, "plane"), seed=seed,

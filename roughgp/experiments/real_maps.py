@@ -13,7 +13,10 @@ from __future__ import annotations
 import dataclasses
 from pathlib import Path
 
-__all__ = ["DATA", "RealFile", "REAL_MAPS", "REAL_PROFILES", "real_file"]
+from roughgp.io.measurement import read_measurement
+
+__all__ = ["DATA", "RealFile", "REAL_MAPS", "REAL_PROFILES", "real_file", "crop_window",
+           "central_crop"]
 
 #: the folder of the open measurements
 DATA = Path(__file__).resolve().parents[2] / "data"
@@ -90,3 +93,19 @@ def real_file(name: str) -> RealFile:
             return entry
     known = ", ".join(e.name for e in REAL_MAPS + REAL_PROFILES)
     raise ValueError(f"name must be one of the files in data/ ({known}), got {name!r}")
+
+
+def crop_window(shape, size) -> tuple:
+    """``(first row, first column, rows, columns)`` of the central ``size`` x ``size`` points
+    of a map of ``shape`` (the whole of an axis shorter than ``size``)."""
+    if int(size) < 16:
+        raise ValueError(f"size must be >= 16 points, got {size!r}")
+    rows, cols = (min(int(n), int(size)) for n in shape)
+    return ((shape[0] - rows) // 2, (shape[1] - cols) // 2, rows, cols)
+
+
+def central_crop(name, size):
+    """``(heights, spacing, window)``: the :func:`crop_window` of the map ``name`` of data/."""
+    m = read_measurement(real_file(name).path)
+    r0, c0, rows, cols = crop_window(m.z.shape, size)
+    return m.z[r0:r0 + rows, c0:c0 + cols], m.spacing, (r0, c0, rows, cols)

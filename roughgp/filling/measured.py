@@ -33,6 +33,7 @@ measured points.
 from __future__ import annotations
 
 import dataclasses
+import functools
 
 import numpy as np
 
@@ -108,11 +109,12 @@ class MeasuredFill:
         in it where the self-check ran (:attr:`band_factors`)."""
         return GAUSSIAN_FACTOR if self.self_check is None else self.self_check.band_factor
 
-    @property
+    @functools.cached_property
     def band_factors(self) -> np.ndarray:
         """The band's factor at each filled point (0 at measured ones): by the size of its hole
         and its depth in it (:attr:`hole_band`) where the self-check ran, else
-        :attr:`band_factor`."""
+        :attr:`band_factor` (computed once: the holes' depths are a distance transform of the
+        map)."""
         if self.hole_band is None:
             return np.where(self.missing, self.band_factor, 0.0)
         return self.hole_band.factor_map(self.missing)
