@@ -4,7 +4,8 @@
 # Both execute the notebooks through one cache (book/_build/.jupyter_cache, see
 # booktools/notebook_cache.py): whichever runs second reuses what the first executed.
 # `make student` writes the labs without their solutions (book/_build/student/: the notebooks, a
-# zip, and the book built without solutions, from the same cache).
+# zip, and the book built without solutions, from the same cache) and the lecturer's key beside it.
+# `make pdf` prints the book as one PDF (book/_build/pdf/book.pdf) with the system's Chromium.
 PYTHON ?= python3.11
 VENV ?= .venv
 BIN := $(VENV)/bin
@@ -13,7 +14,7 @@ STAMP := $(VENV)/.roughgp-installed
 # Test processes side by side (the notebooks run two at a time on the 2-core reference machine).
 JOBS ?= 2
 
-.PHONY: install book test student clean
+.PHONY: install book test student pdf clean
 
 $(STAMP): requirements.lock pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -34,6 +35,9 @@ test: $(STAMP)
 
 student: $(STAMP)
 	$(BIN)/python -m booktools.student
+
+pdf: $(STAMP)
+	$(BIN)/python -m booktools.pdf
 
 clean:
 	rm -rf book/_build

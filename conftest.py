@@ -10,7 +10,8 @@ run again (the progress line says "cached"). A fresh clone, as CI runs it, execu
 A notebook that ran without error but reports a regressed claim (the chapter "Claims ledger"
 glues the list, hidden: :mod:`booktools.findings`) fails its item with the claims named, whether
 it was executed now or its run (with its stored outputs) came from the cache: the book shows the
-regression in red and builds every page, the tests fail on it.
+regression in red and builds every page, the tests fail on it. Likewise a notebook that shows a
+figure or an output line wider than the book's column (:mod:`booktools.page_fit`).
 
 What this file adds to nbmake: the marker ``notebook`` on each notebook item (``pytest -m "not
 notebook"`` runs the unit tier alone), one BLAS thread per test process when several run, the
@@ -25,7 +26,7 @@ import time
 
 import pytest
 
-from booktools import findings, notebook_cache
+from booktools import findings, notebook_cache, page_fit
 
 # book/labs is a link to notebooks/ (so the book shows the labs): collect each lab once.
 collect_ignore = ["book/labs"]
@@ -72,7 +73,8 @@ def _run_nbmake_through_the_cache():
     def execute(run):
         executed = notebook_cache.execute(run.filename, runner=lambda: nbmake_execute(run))
         _RUNS[str(executed.path)] = executed
-        return findings.fail_on_findings(executed.result, executed.path.name)
+        result = findings.fail_on_findings(executed.result, executed.path.name)
+        return page_fit.fail_on_overflow(result, executed.path.name)
 
     execute.through_cache, execute.original = True, nbmake_execute
     NotebookRun.execute = execute

@@ -267,9 +267,9 @@ def plot_model_check(check: ModelCheck, path=None, *, title=None):
 
     use_style()
     n = len(check.parameters)
-    cols = min(n, 4)          # four panels a row: 8.8 in, the labels >= 9 pt on the book's page
+    cols = min(n, 4)          # four panels a row: 7.6 in, the text >= 9 pt on the book's page
     rows = -(-n // cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(2.2 * cols, 2.0 * rows), squeeze=False)
+    fig, axes = plt.subplots(rows, cols, figsize=(1.9 * cols, 2.0 * rows), squeeze=False)
     jitter = np.random.default_rng(0).uniform(-0.25, 0.25, check.n_simulations)
     for ax, p in zip(axes.flat, check.parameters):
         ax.plot(jitter, p.simulated, "o", ms=3, color="0.45", label="simulations")

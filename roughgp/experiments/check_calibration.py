@@ -350,7 +350,7 @@ def plot_intervals(names, level, series, ax, title):
     and the band ``level`` +- 3 %. Returns the figure."""
     import matplotlib.pyplot as plt
     if ax is None:
-        _, ax = plt.subplots(figsize=(8.8, 3.2))
+        _, ax = plt.subplots(figsize=(7.6, 3.2))
     x = np.arange(len(names))
     ax.axhspan(100 * (level - 0.03), 100 * (level + 0.03), color="0.88", label="10 % ± 3 %")
     ax.axhline(100 * level, color="k", lw=1)
@@ -362,7 +362,7 @@ def plot_intervals(names, level, series, ax, title):
     ax.set_xticks(x, names)
     ax.set_ylabel("cases outside (%)")
     ax.set_title(title, fontsize=10)
-    ax.legend(fontsize=9, ncol=3)
+    ax.legend(ncol=3)
     return ax.figure
 
 

@@ -100,7 +100,7 @@ def plot_recovery(records):
     likelihood as a box (log scale), and the truth's line. Returns the figure."""
     import matplotlib.pyplot as plt
     sizes = sorted({r["size"] for r in records})
-    fig, axes = plt.subplots(1, len(RATIOS), figsize=(8.8, 3.0), sharey=True,
+    fig, axes = plt.subplots(1, len(RATIOS), figsize=(7.6, 3.0), sharey=True,
                              constrained_layout=True)
     labels = {"variance_um2": "variance", "lambda_a_um": "λ_a", "lambda_b_um": "λ_b"}
     for ax, name in zip(axes, RATIOS):
@@ -124,5 +124,5 @@ def plot_recovery(records):
     axes[0].yaxis.set_minor_locator(NullLocator())
     axes[0].yaxis.set_minor_formatter(NullFormatter())
     axes[0].set_ylabel("ratio")
-    axes[0].legend(fontsize=7, loc="upper right")
+    axes[0].legend(loc="upper right")
     return fig

@@ -209,7 +209,7 @@ def plot_outside_shares(records, names=("mean", "Sq"), variants=VARIANTS, likeli
     fitted with ``likelihood``), and the check's level 2 / (n + 1). Returns the figure."""
     import matplotlib.pyplot as plt
     level = 2.0 / (records[0]["n_simulations"] + 1)
-    fig, axes = plt.subplots(1, len(names), figsize=(8.8, 3.0), sharey=True,
+    fig, axes = plt.subplots(1, len(names), figsize=(7.6, 3.0), sharey=True,
                              constrained_layout=True)
     axes = np.atleast_1d(axes)
     width = 0.8 / len(variants)
@@ -224,5 +224,5 @@ def plot_outside_shares(records, names=("mean", "Sq"), variants=VARIANTS, likeli
         ax.set_xticks(x, KINDS)
         ax.set_title("mean of the 13 parameters" if name == "mean" else name)
     axes[0].set_ylabel("cases outside (%)")
-    axes[-1].legend(fontsize=7, loc="upper left")
+    axes[-1].legend(loc="upper left")
     return fig

@@ -461,7 +461,7 @@ def plot_ladder(ladder: Ladder, *, title=None):
     use_style()
     counts = ladder.counts().to_numpy(dtype=float)
     n_files, n_rungs = counts.shape
-    fig, ax = plt.subplots(figsize=(8.8, 1.6 + 0.42 * n_files))
+    fig, ax = plt.subplots(figsize=(7.6, 1.6 + 0.42 * n_files))
     shown = np.ma.masked_invalid(counts)
     image = ax.imshow(shown, cmap="Reds", vmin=0, vmax=13, aspect="auto")
     for i in range(n_files):

@@ -191,28 +191,29 @@ def check_long_correlation(full):
 
 
 def _long_correlation_figure(result):
-    """Left: the AR fits' window error against the order; right: ACVFs along the grooves."""
-    fig, axes = row_of_axes(2, width=4.5)
+    """Top: the AR fits' window error against the order; bottom: ACVFs along the grooves."""
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(2, 1, figsize=(6.0, 6.6))
     for kind, style in (("quarter", "s-"), ("half", "o-")):
         errors = [result.fits[kind, p].max_error for p in result.orders]
-        axes[0].plot(result.orders, errors, style, label=f"{kind}-plane AR, lambda_a = "
+        axes[0].plot(result.orders, errors, style, label=f"{kind}-plane AR, $\\lambda_a$ = "
                      f"{result.parameters.lengthscales[0]:g}")
     axes[0].plot(result.orders, [result.short_fits["half", p].max_error for p in result.orders],
-                 "o--", label=f"half-plane AR, lambda_a = {result.short_lambda_a:g}")
+                 "o--", label=f"half-plane AR, $\\lambda_a$ = {result.short_lambda_a:g}")
     axes[0].axhline(result.filter_max_error, color="k", ls=":",
-                    label=f"grid-size FFT filter ({result.grid}^2)")
+                    label=f"grid-size FFT filter ({result.grid}²)")
     axes[0].set(xscale="log", yscale="log", xlabel="AR order p",
-                ylabel="max |ACVF - eq 18| / sigma_k^2",
-                title=f"lags within +-{result.window} (grid units)")
-    axes[0].legend(fontsize=7)
+                ylabel="max |ACVF − eq 18| / $\\sigma_k^2$",
+                title=f"lags within ±{result.window} (grid units)")
+    axes[0].legend(fontsize=9)
     axes[1].plot(result.along_lags, result.true_along, "k", lw=2, label="eq 18 (= circulant)")
     for kind, p in (("half", 2), ("half", max(result.orders)), ("quarter", max(result.orders))):
         axes[1].plot(result.along_lags, result.fits[kind, p].along, lw=1,
                      label=f"{kind}-plane AR, order {p}")
     axes[1].plot(result.along_lags, result.filter_along, "C3:", lw=2,
                  label="grid-size FFT filter")
-    axes[1].set(xlabel="lag along the grooves (grid unit)", ylabel="ACVF / sigma_k^2",
-                title="figure 2's eq 18 along phi = 30 deg")
-    axes[1].legend(fontsize=7)
-    fig.tight_layout()
+    axes[1].set(xlabel="lag along the grooves (grid unit)", ylabel="ACVF / $\\sigma_k^2$",
+                title="figure 2's eq 18 along φ = 30°")
+    axes[1].legend(fontsize=9)
     return fig

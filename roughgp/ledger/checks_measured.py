@@ -107,8 +107,8 @@ def _fill_figure(cvs):
                label=method)
     ax.set_xticks(np.arange(len(cvs)) + width,
                   [f"{k}\n{cv.calibrated_coverage:.1%} in the band"
-                   for k, cv in cvs.items()], fontsize=7)
+                   for k, cv in cvs.items()], fontsize=8.5)
     ax.set(ylabel="RMSE at hidden points / linear's", title="cross-validated fill")
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=8.5)
     fig.tight_layout()
     return fig

@@ -123,7 +123,7 @@ def check_crosshatch(full):
     seeds = honed.crosshatch_over_seeds(pick(8, 20, full=full))
     c = result.crosshatch
     holds = bool(np.all(np.abs(seeds.offsets) <= 3) and min(seeds.median_ratios) > 10)
-    fig, axes = row_of_axes(2, width=4.4, height=3.6)
+    fig, axes = row_of_axes(2, height=3.6)
     axes[0].imshow(result.surface, origin="lower", cmap="viridis")
     axes[0].set(title="figure 3 (512 x 512)", xlabel="x", ylabel="y")
     axes[0].grid(False)

@@ -111,6 +111,7 @@ def run(*, full: bool | None = None, only: Iterable[str] | None = None,
     """
     import matplotlib
     import matplotlib.pyplot as plt
+    from roughgp.common.plotting import save_for_page
 
     from roughgp.common.settings import resolve_full
     full = resolve_full(full)
@@ -144,7 +145,7 @@ def run(*, full: bool | None = None, only: Iterable[str] | None = None,
             if figures_dir is not None:
                 path = str(figures_dir / f"{c.key}.png")
                 with atomic_output(path) as partial:  # whole or not at all; the folder made
-                    result.figure.savefig(partial, dpi=110, bbox_inches="tight")
+                    save_for_page(result.figure, partial, dpi=110)
             plt.close(result.figure)
         if matplotlib.get_backend() != backend:  # pragma: no cover - checks never switch
             matplotlib.use(backend)

@@ -1,0 +1,47 @@
+"""``make pdf`` (booktools/pdf.py): a book built as one page and printed by headless Chromium
+to a PDF, offline, with its equations typeset by the book's local MathJax."""
+
+import re
+import shutil
+
+import pytest
+
+from booktools import pdf
+_PAGE = """# Equations
+
+\\begin{equation*}
+r = \\begin{pmatrix}a & b\\\\ c & d\\end{pmatrix}
+\\tag{18}
+\\end{equation*}
+"""
+
+BROWSER = pdf.browser()
+
+
+def _tiny_book(root):
+    root.mkdir()
+    (root / "_config.yml").write_text(
+        "title: tiny\nonly_build_toc_files: true\nexecute:\n  execute_notebooks: 'off'\n"
+        "parse:\n  myst_enable_extensions: [dollarmath, amsmath]\n"
+        "sphinx:\n  extra_extensions: [sphinx-mathjax-offline]\n")
+    (root / "_toc.yml").write_text("format: jb-book\nroot: page\nchapters:\n- file: second\n")
+    (root / "page.md").write_text(_PAGE)
+    (root / "second.md").write_text("# Second page\n\nThe second chapter, $\\sigma^2$.\n")
+    return root
+
+
+@pytest.mark.skipif(BROWSER is None, reason="no Chromium on this machine")
+def test_a_book_becomes_one_pdf(tmp_path):
+    page = pdf.build_single_page(_tiny_book(tmp_path / "book"))
+    html = page.read_text()
+    assert "Second page" in html and "Equations" in html    # both chapters on one page
+    out = pdf.print_to_pdf(page, tmp_path / "out" / "book.pdf", BROWSER)
+    data = out.read_bytes()
+    assert data.startswith(b"%PDF-") and len(re.findall(rb"/Type\s*/Page\b", data)) >= 1
+    assert "print" in (page.with_name("print.html").read_text())  # the print rules added
+
+
+def test_without_chromium_the_command_says_what_to_install(monkeypatch, capsys):
+    monkeypatch.setattr(shutil, "which", lambda name: None)
+    assert pdf.main([]) == 2
+    assert "apt-get install chromium" in capsys.readouterr().err

@@ -1,0 +1,22 @@
+"""Printed text fitted to the book's column (roughgp.common.page_text)."""
+
+from roughgp.common import page_text
+
+
+def test_long_lines_are_wrapped_and_short_ones_kept():
+    text = "a short line\n" + " ".join(["word"] * 60) + "\n    indented " + "x " * 50
+    fitted = page_text.fit_to_page(text)
+    lines = fitted.splitlines()
+    assert lines[0] == "a short line"
+    assert all(len(line) <= page_text.PAGE_COLUMNS for line in lines)
+    assert fitted.split() == text.split()          # nothing lost, nothing added
+    assert any(line.startswith("      x") for line in lines)  # the indent kept, plus two
+
+
+def test_a_word_longer_than_the_page_is_broken():
+    assert all(len(line) <= 20 for line in page_text.fit_to_page("y" * 70, 20).splitlines())
+
+
+def test_say_prints_like_print(capsys):
+    page_text.say("Sq", 0.5, "µm")
+    assert capsys.readouterr().out == "Sq 0.5 µm\n"
