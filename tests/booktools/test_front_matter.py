@@ -13,7 +13,9 @@ ROOT = Path(__file__).resolve().parents[2]
 
 def test_the_readme_is_short_and_points_to_the_rest():
     text = (ROOT / "README.md").read_text(encoding="utf-8")
-    assert len(text.splitlines()) < 100
+    # under 115 lines: 100 until its code blocks were laid out for the book's 81-column
+    # page (tests/test_book_pages.py), each command's comment on a line of its own
+    assert len(text.splitlines()) < 115
     for needed in ("make book", "make test", "book/images/surfaces.png", "book/running.md",
                    "API reference", "LICENSE", "CITATION.cff"):
         assert needed in text, needed

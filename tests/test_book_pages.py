@@ -1,0 +1,75 @@
+"""The book's Markdown pages and the README fit the book's text column: no line of a fenced
+code block is longer than the column holds, so that no code block gets a horizontal scroll
+bar. A long command is split with ``\\`` continuations, its comment on a line of its own above
+it; a command's printed output is re-wrapped to the column."""
+
+import re
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+# the book column's width in monospace characters: its 688 CSS px hold 81 characters of the
+# theme's monospace font
+MAX = 81
+
+# a CommonMark code fence: three or more backticks or tildes, then the info string
+FENCE = re.compile(r"^ {0,3}(`{3,}|~{3,})(.*)$")
+# the MyST directives whose body is shown as code; any other directive ({note},
+# {eval-rst}, {bibliography}, ...) is no code block, though a code block nested in it is
+CODE_DIRECTIVES = {"code-block", "code", "code-cell", "sourcecode"}
+
+PAGES = sorted((ROOT / "book").glob("*.md")) + [ROOT / "README.md"]
+
+
+def _is_code(info: str) -> bool:
+    directive = re.match(r"\{([\w-]+)\}", info)
+    return directive is None or directive.group(1) in CODE_DIRECTIVES
+
+
+def code_lines(text: str):
+    """(line number, line) of each line inside a fenced code block of the Markdown ``text``."""
+    fences = []  # the open fences, innermost last: (character, length, is code)
+    for number, line in enumerate(text.splitlines(), 1):
+        fence = FENCE.match(line)
+        inside_code = bool(fences) and fences[-1][2]
+        if fence:
+            mark, info = fence.group(1), fence.group(2).strip()
+            closes = (fences and not info and mark[0] == fences[-1][0]
+                      and len(mark) >= fences[-1][1])
+            if closes:
+                fences.pop()
+                continue
+            if not inside_code:
+                fences.append((mark[0], len(mark), _is_code(info)))
+                continue
+        if inside_code:
+            yield number, line
+
+
+def too_long_code_lines(text: str, width: int = MAX) -> list[tuple[int, int]]:
+    """(line number, length) of each line of a fenced code block of ``text`` longer than
+    ``width`` characters."""
+    return [(number, len(line)) for number, line in code_lines(text) if len(line) > width]
+
+
+@pytest.mark.parametrize("page", PAGES, ids=lambda page: str(page.relative_to(ROOT)))
+def test_every_code_line_fits_the_book_column(page):
+    long = too_long_code_lines(page.read_text(encoding="utf-8"))
+    assert not long, "\n".join(
+        f"{page.relative_to(ROOT)}:{number}: {length} characters, the column holds {MAX}"
+        for number, length in long)
+
+
+def test_the_check_says_no_to_a_long_code_line_and_yes_to_a_short_one():
+    short, long = "x" * MAX, "y" * (MAX + 1)
+    assert too_long_code_lines(f"```bash\n{short}\n```\n") == []
+    page = f"# A page\n\n{long} (prose wraps)\n\n```bash\n{short}\n{long}\n```\n\n{long}\n"
+    assert too_long_code_lines(page) == [(7, MAX + 1)]
+    # a tilde fence, a fence of four backticks around a shorter one, a code block nested in a
+    # directive; a directive's own body is no code
+    assert too_long_code_lines(f"~~~\n{long}\n~~~\n") == [(2, MAX + 1)]
+    assert too_long_code_lines(f"````md\n```\n{long}\n```\n````\n{long}\n") == [(3, MAX + 1)]
+    assert too_long_code_lines(f"````{{note}}\n{long}\n```python\n{long}\n```\n````\n") == [
+        (4, MAX + 1)]
