@@ -8,11 +8,13 @@ from pathlib import Path
 
 import pytest
 
+from roughgp.common.page_text import PAGE_COLUMNS
+
 ROOT = Path(__file__).resolve().parents[1]
 
 # the book column's width in monospace characters: its 688 CSS px hold 81 characters of the
 # theme's monospace font
-MAX = 81
+MAX = PAGE_COLUMNS
 
 # a CommonMark code fence: three or more backticks or tildes, then the info string
 FENCE = re.compile(r"^ {0,3}(`{3,}|~{3,})(.*)$")
