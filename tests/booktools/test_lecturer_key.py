@@ -2,10 +2,6 @@
 solution and every model answer of the labs in one document, every question of a lab answered,
 the key never inside the hand-out, and the hand-out still without any answer."""
 
-import subprocess
-import sys
-from pathlib import Path
-
 import nbformat
 import pytest
 
@@ -164,59 +160,3 @@ def test_make_student_writes_the_key_beside_the_hand_out(tmp_path, monkeypatch, 
     monkeypatch.setattr(student, "solution_code_left", lambda folder: ["lab1.ipynb: x = 1"])
     assert student.main(["--out", str(out), "--no-book"]) == 1
     assert not key.exists() and not key.parent.exists() and not out.exists()
-
-
-_PAGE = """# A lab
-
-:::{exercise} Lab 9, task 1
-:nonumber:
-:label: lab9-task1
-
-Compute the answer.
-:::
-
-:::{solution-start} lab9-task1
-:class: dropdown
-:::
-
-The code is FIRST-GATED-SOLUTION.
-
-:::{solution-end}
-:::
-
-**Question.** Why?
-
-:::{solution-start} lab9-task1
-:class: dropdown
-:::
-
-**Answer.** SECOND-GATED-SOLUTION.
-
-:::{solution-end}
-:::
-"""
-
-
-def test_the_book_shows_both_gated_solutions_of_one_exercise(tmp_path):
-    """sphinx-exercise merges each gated solution on its own (each gets its own label), so one
-    exercise may have two: the reference book shows both, the student book neither."""
-    book = tmp_path / "book"
-    book.mkdir()
-    (book / "_config.yml").write_text(
-        "title: tiny\nonly_build_toc_files: true\nexecute:\n  execute_notebooks: 'off'\n"
-        "parse:\n  myst_enable_extensions: [colon_fence]\n"
-        "sphinx:\n  extra_extensions: [sphinx_exercise]\n"
-        f"  local_extensions:\n    student: {student.ROOT / 'booktools'}\n")
-    (book / "_toc.yml").write_text("format: jb-book\nroot: lab\n")
-    (book / "lab.md").write_text(_PAGE)
-    reference = tmp_path / "reference"
-    subprocess.run([str(Path(sys.executable).with_name("jupyter-book")), "build", "-W", "-n",
-                    "--path-output", str(reference), str(book)], check=True,
-                   capture_output=True)
-    page = (reference / "_build" / "html" / "lab.html").read_text()
-    assert "FIRST-GATED-SOLUTION" in page and "SECOND-GATED-SOLUTION" in page
-    assert page.count("Solution to") == 2
-    html = student.build_student_book(tmp_path / "student", book)
-    page = (html / "lab.html").read_text()
-    assert "Compute the answer" in page and "Why?" in page
-    assert "GATED-SOLUTION" not in page and student.solutions_left(html) == []
