@@ -4,7 +4,8 @@
 # Both execute the notebooks through one cache (book/_build/.jupyter_cache, see
 # booktools/notebook_cache.py): whichever runs second reuses what the first executed.
 # `make student` writes the labs without their solutions (book/_build/student/: the notebooks, a
-# zip, and the book built without solutions, from the same cache) and the lecturer's key beside it.
+# zip, and the book built without solutions, from the same cache), and beside them the lecturer's
+# key (book/_build/lecturer/key.md: the reference solutions and the model answers).
 # `make pdf` prints the book as one PDF (book/_build/pdf/book.pdf) with the system's Chromium.
 PYTHON ?= python3.11
 VENV ?= .venv

@@ -36,6 +36,15 @@ checks its pages. A regressed claim of the ledger does not stop it (the claims c
 and runs to its end). When anything fails (the build, a solution left on a page, solution code
 in a file) :func:`main` removes what it wrote, and a failed build leaves neither the reference
 runs nor a half-built book: nothing is left to hand out by mistake.
+
+The lecturer's key is the other side of the hand-out. When the student edition has been written
+and checked, :func:`main` writes ``book/_build/lecturer/key.md`` (:mod:`booktools.lecturer_key`:
+per lab and task the task's text, its reference solution code and the model answers to its
+questions) beside the student folder, never inside it (``--key`` inside ``--out`` is refused);
+a run that fails removes the key too, so the key is there exactly when a checked hand-out is.
+The model answers are gated written answers (a Markdown cell starting with ``**Answer.**`` after
+each question, with the label of the question's exercise): the student edition puts an empty
+"Your answer" cell in place of each, and the student book leaves them out with the solutions.
 """
 
 from __future__ import annotations
@@ -58,10 +67,12 @@ BOOK = ROOT / "book"
 LABS = ROOT / "notebooks"
 OUT = BOOK / "_build" / "student"
 
-_START = re.compile(r"^:::\{solution-start\}\s+(\S+)", re.M)
-_END = re.compile(r"^:::\{solution-end\}", re.M)
-_TASK = re.compile(r"^## Task (\d+): (.*)$", re.M)
-_LABEL = re.compile(r":label:\s*(\S+)")
+# The gated solution's directives, a task's heading and an exercise's label (also read by
+# booktools.lecturer_key, which collects what these cells hold into the lecturer's key)
+SOLUTION_START = re.compile(r"^:::\{solution-start\}\s+(\S+)", re.M)
+SOLUTION_END = re.compile(r"^:::\{solution-end\}", re.M)
+TASK_HEADING = re.compile(r"^## Task (\d+): (.*)$", re.M)
+EXERCISE_LABEL = re.compile(r":label:\s*(\S+)")
 _SOLUTION_HTML = re.compile(r'class="[^"]*\bsolution\b[^"]*\badmonition\b')
 _TAG = re.compile(r"<[^>]+>")
 # A note of the reference edition only ("the solutions are collapsed under each task ..."): an
@@ -70,12 +81,13 @@ REFERENCE_ONLY = "reference-edition"
 # A solution line shorter than this (``z = f(x)``) is too generic to count as a leak.
 MIN_LINE = 13
 
-__all__ = ["REFERENCE_ONLY", "student_notebook", "write_student_edition", "student_book_config",
+__all__ = ["REFERENCE_ONLY", "SOLUTION_START", "SOLUTION_END", "TASK_HEADING", "EXERCISE_LABEL",
+           "student_notebook", "plain_exercise", "write_student_edition", "student_book_config",
            "build_student_book", "solutions_left", "solution_lines", "solution_code_left",
            "self_check_leaks", "plain_roles", "setup", "main"]
 
 
-def _plain_exercise(source: str) -> str:
+def plain_exercise(source: str) -> str:
     """An ``exercise`` directive's Markdown without the directive's fences and options."""
     lines = [line for line in source.splitlines()
              if not re.match(r"^:::(\{exercise\}.*)?\s*$", line)
@@ -92,7 +104,7 @@ def _tasks(nb) -> dict[str, str]:
     tasks = {}
     for cell in nb.cells:
         if cell.cell_type == "markdown" and "{exercise}" in cell.source:
-            task, label = _TASK.search(cell.source), _LABEL.search(cell.source)
+            task, label = TASK_HEADING.search(cell.source), EXERCISE_LABEL.search(cell.source)
             if task and label:
                 tasks[label.group(1)] = f"Task {task.group(1)} ({task.group(2).strip()})"
     return tasks
@@ -122,12 +134,12 @@ def student_notebook(nb):
     tasks = _tasks(nb)
     cells, inside, label = [], False, None
     for cell in nb.cells:
-        if cell.cell_type == "markdown" and _START.search(cell.source):
+        if cell.cell_type == "markdown" and SOLUTION_START.search(cell.source):
             if inside:
                 raise ValueError(f"solution-start {label} is not closed before the next one")
-            inside, label, blanked = True, _START.search(cell.source).group(1), set()
+            inside, label, blanked = True, SOLUTION_START.search(cell.source).group(1), set()
             continue
-        if cell.cell_type == "markdown" and _END.search(cell.source):
+        if cell.cell_type == "markdown" and SOLUTION_END.search(cell.source):
             if not inside:
                 raise ValueError("solution-end without solution-start")
             inside = False
@@ -148,7 +160,7 @@ def student_notebook(nb):
             continue
         new = nbformat.from_dict(dict(cell))
         if new.cell_type == "markdown" and "{exercise}" in new.source:
-            new.source = _plain_exercise(new.source)
+            new.source = plain_exercise(new.source)
         if new.cell_type == "markdown":
             new.source = plain_roles(new.source)
         if new.cell_type == "code":
@@ -245,10 +257,10 @@ def solution_lines(nb) -> tuple[list[str], list[str]]:
     (the given code, the self-checks, the tasks' text), which may appear."""
     inside_lines, outside_lines, inside = [], [], False
     for cell in nb.cells:
-        if cell.cell_type == "markdown" and _START.search(cell.source):
+        if cell.cell_type == "markdown" and SOLUTION_START.search(cell.source):
             inside = True
             continue
-        if cell.cell_type == "markdown" and _END.search(cell.source):
+        if cell.cell_type == "markdown" and SOLUTION_END.search(cell.source):
             inside = False
             continue
         lines = [" ".join(line.split()) for line in cell.source.splitlines()]
@@ -300,9 +312,9 @@ def self_check_leaks(nb) -> list[str]:
 
     solutions, checks, inside = set(), [], False
     for index, cell in enumerate(nb.cells):
-        if cell.cell_type == "markdown" and _START.search(cell.source):
+        if cell.cell_type == "markdown" and SOLUTION_START.search(cell.source):
             inside = True
-        elif cell.cell_type == "markdown" and _END.search(cell.source):
+        elif cell.cell_type == "markdown" and SOLUTION_END.search(cell.source):
             inside = False
         elif cell.cell_type == "code" and inside:
             solutions |= _solution_expressions(cell.source)
@@ -424,27 +436,38 @@ def _discard(out: Path, written: list[Path]) -> None:
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m booktools.student",
-                                     description="Write the labs without their solutions.")
+                                     description="Write the labs without their solutions, and "
+                                                 "the lecturer's key beside them.")
     parser.add_argument("--out", type=Path, default=OUT, help=f"folder (default {OUT})")
     parser.add_argument("--no-book", action="store_true",
                         help="write the notebooks and the zip only, not the student book")
+    parser.add_argument("--key", type=Path, default=None,
+                        help="the lecturer's key (default: lecturer/key.md beside the folder, "
+                             "book/_build/lecturer/key.md); never inside the folder")
     args = parser.parse_args(argv)
+    args.key = args.key or args.out.parent / "lecturer" / "key.md"
+    if args.key.resolve().is_relative_to(args.out.resolve()):
+        parser.error(f"the key {args.key} would lie inside the hand-out {args.out}")
+    from booktools import lecturer_key  # it reads this module's patterns
+
     written, ok = [], False
     try:
         code = _write_and_check(args, written)
         ok = code == 0
         return code
     finally:
-        if not ok:  # an error, a solution left or a leak: remove this run's hand-out
+        if not ok:  # an error, a solution left or a leak: remove this run's hand-out and key
             _discard(args.out, written)
-            print(f"error: nothing to hand out; removed what this run wrote in {args.out}",
-                  file=sys.stderr)
+            lecturer_key.remove_key(args.key)
+            print(f"error: nothing to hand out; removed what this run wrote in {args.out}, "
+                  f"and the lecturer's key {args.key}", file=sys.stderr)
 
 
 def _write_and_check(args, written: list[Path]) -> int:
     """:func:`main`'s work: write the notebooks (named in ``written`` before they are written,
-    so that a failure midway removes them too), the zip and the book, then scan them; returns
-    the exit code."""
+    so that a failure midway removes them too), the zip and the book, then scan them, and last
+    write the lecturer's key (:mod:`booktools.lecturer_key`) to ``args.key``; returns the exit
+    code."""
     written.extend(sorted(args.out / p.name for p in LABS.glob("lab*.ipynb")))
     written[:] = write_student_edition(out=args.out)
     for path in written:
@@ -463,6 +486,11 @@ def _write_and_check(args, written: list[Path]) -> int:
         print(f"error: solution code left in the student build: {leaked[:5]}", file=sys.stderr)
         return 1
     print(f"checked every file of {args.out}: no solution code")
+    from booktools import lecturer_key
+
+    key = lecturer_key.write_key(args.key)
+    print(f"wrote {key}: the lecturer's key (the reference solutions and the model answers; "
+          f"not part of the hand-out)")
     return 0
 
 

@@ -98,6 +98,17 @@ The answer is FORTY-TWO-SOLUTION.
 
 :::{solution-end}
 :::
+
+**Question.** Why forty-two?
+
+:::{solution-start} lab9-task1
+:class: dropdown
+:::
+
+**Answer.** A SECOND-GATED-SOLUTION of the same exercise, as the labs' written answers are.
+
+:::{solution-end}
+:::
 """
 
 
@@ -158,7 +169,8 @@ def test_the_student_book_hides_every_solution_the_reference_book_shows(tmp_path
     assert "roughgp_student_book: true" in text and str((tmp_path / "cache").resolve()) in text
     html = student.build_student_book(tmp_path / "student", book)
     page = (html / "lab.html").read_text()
-    assert "Compute the answer" in page and "FORTY-TWO-SOLUTION" not in page
+    assert "Compute the answer" in page and "Why forty-two?" in page
+    assert "FORTY-TWO-SOLUTION" not in page and "SECOND-GATED-SOLUTION" not in page
     assert student.solutions_left(html) == []
     # the reference build of the same page shows the solution, and the check finds it
     reference = tmp_path / "reference"
@@ -168,7 +180,11 @@ def test_the_student_book_hides_every_solution_the_reference_book_shows(tmp_path
                     "--path-output", str(reference), str(book)], check=True,
                    capture_output=True)
     shown = reference / "_build" / "html"
-    assert "FORTY-TWO-SOLUTION" in (shown / "lab.html").read_text()
+    # an exercise may have several gated solutions (its code, then a written answer): each is
+    # merged on its own (sphinx-exercise labels each), and each is shown
+    page = (shown / "lab.html").read_text()
+    assert "FORTY-TWO-SOLUTION" in page and "SECOND-GATED-SOLUTION" in page
+    assert page.count("Solution to") == 2
     assert student.solutions_left(shown) == ["lab.html", "labs/lab8.html"]
 
 
