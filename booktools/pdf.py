@@ -9,6 +9,11 @@ print rules as ``pdfhtml`` (a cell's input or output is not split across pages),
 page with headless Chromium (``--print-to-pdf``), giving MathJax (served locally,
 ``sphinx-mathjax-offline``) time to typeset. The PDF is ``book/_build/pdf/book.pdf``.
 
+As a Sphinx extension (``local_extensions`` in ``book/_config.yml``) :func:`setup` gives the
+``singlehtml`` translator the node handlers that extensions register for ``html`` only
+(sphinx-design's card titles, myst-nb's hidden code cells): without them the one-page build
+stops at "unknown node type".
+
 Chromium is not part of the Python environment: on Debian it is the package ``chromium``
 (``apt-get install chromium``); :func:`main` says so when it finds none.
 """
@@ -39,7 +44,7 @@ div.cell_input, div.cell_output { break-inside: avoid; page-break-inside: avoid;
 </style>
 """
 
-__all__ = ["PDF", "browser", "build_single_page", "print_to_pdf", "main"]
+__all__ = ["PDF", "browser", "build_single_page", "print_to_pdf", "main", "setup"]
 
 
 def browser() -> str | None:
@@ -81,6 +86,25 @@ def print_to_pdf(page: Path, pdf: Path, chromium: str, timeout: float = 900) -> 
     if not pdf.exists() or pdf.read_bytes()[:5] != b"%PDF-":
         raise RuntimeError(f"Chromium wrote no PDF (exit {run.returncode}):\n{run.stderr[-2000:]}")
     return pdf
+
+
+def _share_html_handlers(app) -> None:
+    """For the ``singlehtml`` builder: every node handler registered for ``html`` that
+    ``singlehtml`` lacks (Sphinx looks up a builder's handlers by its name first, and falls back
+    to its format only when that name has none)."""
+    if app.builder.name != "singlehtml":
+        return
+    handlers = app.registry.translation_handlers
+    single = handlers.setdefault("singlehtml", {})
+    for node, pair in handlers.get("html", {}).items():
+        single.setdefault(node, pair)
+
+
+def setup(app):
+    """Sphinx extension: the ``singlehtml`` build writes every node the ``html`` build writes
+    (see the module's docstring)."""
+    app.connect("builder-inited", _share_html_handlers)
+    return {"parallel_read_safe": True, "parallel_write_safe": True}
 
 
 def main(argv=None) -> int:

@@ -22,11 +22,14 @@ def _tiny_book(root):
     root.mkdir()
     (root / "_config.yml").write_text(
         "title: tiny\nonly_build_toc_files: true\nexecute:\n  execute_notebooks: 'off'\n"
-        "parse:\n  myst_enable_extensions: [dollarmath, amsmath]\n"
-        "sphinx:\n  extra_extensions: [sphinx-mathjax-offline]\n")
+        "parse:\n  myst_enable_extensions: [dollarmath, amsmath, colon_fence]\n"
+        "sphinx:\n  extra_extensions: [sphinx-mathjax-offline]\n"
+        f"  local_extensions:\n    pdf: {pdf.ROOT / 'booktools'}\n")
     (root / "_toc.yml").write_text("format: jb-book\nroot: page\nchapters:\n- file: second\n")
     (root / "page.md").write_text(_PAGE)
-    (root / "second.md").write_text("# Second page\n\nThe second chapter, $\\sigma^2$.\n")
+    (root / "second.md").write_text("# Second page\n\nThe second chapter, $\\sigma^2$.\n\n"
+                                    "::::{grid} 1 1 2 2\n\n:::{grid-item-card} A card title\n"
+                                    "Its text.\n:::\n\n::::\n")
     return root
 
 
@@ -35,6 +38,7 @@ def test_a_book_becomes_one_pdf(tmp_path):
     page = pdf.build_single_page(_tiny_book(tmp_path / "book"))
     html = page.read_text()
     assert "Second page" in html and "Equations" in html    # both chapters on one page
+    assert "A card title" in html   # sphinx-design's card, written by the singlehtml builder
     out = pdf.print_to_pdf(page, tmp_path / "out" / "book.pdf", BROWSER)
     data = out.read_bytes()
     assert data.startswith(b"%PDF-") and len(re.findall(rb"/Type\s*/Page\b", data)) >= 1
