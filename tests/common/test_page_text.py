@@ -20,3 +20,11 @@ def test_a_word_longer_than_the_page_is_broken():
 def test_say_prints_like_print(capsys):
     page_text.say("Sq", 0.5, "µm")
     assert capsys.readouterr().out == "Sq 0.5 µm\n"
+
+
+def test_the_book_writes_micrometres_as_its_figures_do(capsys):
+    assert page_text.book_units("variance 0.9 um^2, lambda_a 87 um; psd um^4 (um)") == (
+        "variance 0.9 µm², lambda_a 87 µm; psd µm⁴ (µm)")
+    assert page_text.book_units("umbrella, sum, drum um3") == "umbrella, sum, drum um3"
+    page_text.say("Sq 0.5 um")
+    assert capsys.readouterr().out == "Sq 0.5 µm\n"
