@@ -1,5 +1,8 @@
 """``make pdf`` (booktools/pdf.py): a book built as one page and printed by headless Chromium
-to a PDF, offline, with its equations typeset by the book's local MathJax."""
+to a PDF, offline, with its equations typeset by the book's local MathJax. The tiny book has a
+sphinx-design card and sphinx-exercise, as the book has: without the module's Sphinx extension
+its one-page build stops at "unknown node type" (sphinx-exercise registers nodes for
+``singlehtml``, and Sphinx then ignores the handlers registered for ``html``)."""
 
 import re
 import shutil
@@ -23,7 +26,7 @@ def _tiny_book(root):
     (root / "_config.yml").write_text(
         "title: tiny\nonly_build_toc_files: true\nexecute:\n  execute_notebooks: 'off'\n"
         "parse:\n  myst_enable_extensions: [dollarmath, amsmath, colon_fence]\n"
-        "sphinx:\n  extra_extensions: [sphinx-mathjax-offline]\n"
+        "sphinx:\n  extra_extensions: [sphinx-mathjax-offline, sphinx_exercise]\n"
         f"  local_extensions:\n    pdf: {pdf.ROOT / 'booktools'}\n")
     (root / "_toc.yml").write_text("format: jb-book\nroot: page\nchapters:\n- file: second\n")
     (root / "page.md").write_text(_PAGE)
