@@ -11,7 +11,11 @@ Two levels:
   ``<code>``) is left out: a role or ``??`` in code is code.
 * :func:`mathjax_errors` opens the page in a headless browser (Chromium: ``--dump-dom`` after
   MathJax ran) and reads the errors MathJax itself reports (``data-mjx-error``); it catches every
-  MathJax error, at a second or two per page.
+  MathJax error, at a second or two per page. :func:`wider_than_the_column` renders the page the
+  same way, in a window 1280 px wide without scroll bars (the text column is then
+  :data:`roughgp.common.plotting.PAGE_WIDTH_PX`, 688 px), and names each table, image or display
+  equation wider than the column (a table a reader must scroll sideways; code blocks are held to
+  their characters by the tests instead).
 
 As a Sphinx extension (``sphinx.local_extensions`` in ``book/_config.yml``) :func:`setup` runs
 the static scan when the HTML build finishes and reports each fault as a warning, so the book's
@@ -29,7 +33,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-__all__ = ["page_faults", "mathjax_errors", "scan", "setup", "main"]
+__all__ = ["page_faults", "mathjax_errors", "wider_than_the_column", "scan", "setup", "main"]
 
 _DROP = re.compile(r"<(script|style|pre|code)\b.*?</\1>", re.S | re.I)
 _MATH = re.compile(r'<(div|span) class="math\b[^"]*"[^>]*>(.*?)</\1>', re.S)
@@ -79,23 +83,88 @@ def mathjax_errors(path: Path, browser: str, timeout: float = 60.0) -> list[str]
             for message in _MJX_ERROR.findall(done.stdout)]
 
 
+# run in the page once it has loaded and MathJax had time: what is wider than the column
+_MEASURE = """<script>
+window.addEventListener("load", () => setTimeout(() => {
+  const article = document.querySelector("article.bd-article") || document.body;
+  const style = getComputedStyle(article);
+  const column = article.clientWidth - parseFloat(style.paddingLeft)
+                 - parseFloat(style.paddingRight);
+  const wide = [];
+  for (const el of article.querySelectorAll("table, img, mjx-container[display='true']")) {
+    const width = el.getBoundingClientRect().width;
+    if (width > column + 1) {
+      const what = el.tagName.toLowerCase().replace("mjx-container", "equation");
+      const text = (el.innerText || el.getAttribute("alt") || el.getAttribute("src") || "");
+      wide.push(`${what} ${Math.round(width)} px: ${text.replace(/\\s+/g, " ").slice(0, 50)}`);
+    }
+  }
+  document.body.setAttribute("data-roughgp-wide",
+                             JSON.stringify({column: Math.round(column), wide: wide}));
+}, 1000));
+</script>
+"""
+_WIDE = re.compile(r'data-roughgp-wide="([^"]*)"')
+_REDIRECT = re.compile(r'<meta http-equiv="Refresh"', re.I)
+# Sphinx's own pages (the index of names, the search page): not held to the column
+_GENERATED = {"genindex", "search", "py-modindex"}
+
+
+def wider_than_the_column(path: Path, browser: str, timeout: float = 60.0) -> list[str]:
+    """What the page ``path`` shows wider than its text column when ``browser`` (a Chromium
+    executable) renders it headless in a window 1280 px wide without scroll bars: each table,
+    image and display equation, as ``"wider than the 688 px column: table 923 px: ..."``. The
+    page is rendered from a copy beside it with a measuring script added (removed after). A
+    redirect (the book's ``index.html``) and Sphinx's generated index and search pages are not
+    measured."""
+    import json
+
+    path = Path(path)
+    text = path.read_text(errors="replace")
+    if path.stem in _GENERATED or _REDIRECT.search(text):
+        return []
+    copy = path.with_name(f".{path.stem}.measure.html")
+    copy.write_text(text.replace("</head>", _MEASURE + "</head>", 1))
+    try:
+        command = [browser, "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
+                   "--window-size=1280,900", "--virtual-time-budget=15000", "--dump-dom",
+                   copy.resolve().as_uri()]
+        done = subprocess.run(command, capture_output=True, text=True, timeout=timeout,
+                              check=False)
+    finally:
+        copy.unlink(missing_ok=True)
+    found = _WIDE.search(done.stdout)
+    if done.returncode != 0 or found is None:
+        raise RuntimeError(f"{browser} could not measure {path}: {done.stderr[-500:]}")
+    measured = json.loads(html_module.unescape(found.group(1)))
+    return [f"wider than the {measured['column']} px column: {item}"
+            for item in measured["wide"]]
+
+
 def pages(html: Path) -> list[Path]:
     """The pages of a built book: every ``.html`` outside the build's static folders."""
     return [page for page in sorted(Path(html).rglob("*.html"))
             if not _SKIP & set(page.relative_to(html).parts)]
 
 
-def scan(html: Path, browser: str | None = None) -> dict[str, list[str]]:
+def _faults(page: Path, browser: str | None) -> list[str]:
+    faults = page_faults(page.read_text(errors="replace"))
+    if browser:
+        faults += mathjax_errors(page, browser) + wider_than_the_column(page, browser)
+    return faults
+
+
+def scan(html: Path, browser: str | None = None, workers: int = 2) -> dict[str, list[str]]:
     """Page (relative to ``html``) -> its faults, for the pages that have any; with ``browser``
-    each page is also rendered and MathJax's own errors are added."""
-    found = {}
-    for page in pages(html):
-        faults = page_faults(page.read_text(errors="replace"))
-        if browser:
-            faults += mathjax_errors(page, browser)
-        if faults:
-            found[str(page.relative_to(html))] = faults
-    return found
+    each page is also rendered (``workers`` browsers at a time): MathJax's own errors and what
+    is wider than the column are added."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    found_pages = pages(html)
+    with ThreadPoolExecutor(max_workers=max(1, workers if browser else 1)) as pool:
+        results = list(pool.map(lambda page: _faults(page, browser), found_pages))
+    return {str(page.relative_to(html)): faults
+            for page, faults in zip(found_pages, results) if faults}
 
 
 def setup(app):
@@ -120,8 +189,9 @@ def main(argv=None) -> int:
         prog="python -m booktools.html_check",
         description="Scan a built book for MathJax errors, unresolved roles and '??'.")
     parser.add_argument("html", type=Path, help="the built HTML folder (book/_build/html)")
-    parser.add_argument("--browser", help="a Chromium executable: render every page and read "
-                                          "MathJax's own errors too (a second or two a page)")
+    parser.add_argument("--browser", help="a Chromium executable: render every page, read "
+                                          "MathJax's own errors and find tables, images and "
+                                          "equations wider than the column (seconds a page)")
     args = parser.parse_args(argv)
     if not (args.html / "index.html").is_file():
         parser.error(f"html: {args.html} holds no index.html (build the book first)")

@@ -430,19 +430,26 @@ def verdict_lines(ladder: Ladder) -> list:
     return lines
 
 
-def markdown_table(ladder: Ladder) -> str:
+def markdown_table(ladder: Ladder, *, per_rung: bool = True) -> str:
     """The ladder as a Markdown table: per file, the count outside under each rung (the best
-    in bold), the parameters outside under the best and its held-out RMSE ratio."""
-    head = ["file", "instrument"] + [_short(g).replace("\n", " ") for g in ladder.rungs] + \
-        ["outside (best)", "held-out RMSE / linear (best)"]
+    in bold), the parameters outside under the best and its held-out RMSE ratio. With
+    ``per_rung=False`` the counts per rung give way to the best rung's name (a table that fits
+    the book's column, beside :func:`plot_ladder`'s map of the counts)."""
+    head = ["file", "instrument"]
+    head += ([_short(g).replace("\n", " ") for g in ladder.rungs] if per_rung
+             else ["best model"])
+    head += ["outside (best)", "held-out RMSE / linear (best)"]
     rows = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for name in ladder.files:
         best = ladder.best(name)
         cells = [f"`{name}`", real_file(name).technique]
-        for rung in ladder.rungs:
-            r = ladder.result(name, rung)
-            cell = "failed" if r.outside is None else str(r.n_outside)
-            cells.append(f"**{cell}**" if r is best else cell)
+        if per_rung:
+            for rung in ladder.rungs:
+                r = ladder.result(name, rung)
+                cell = "failed" if r.outside is None else str(r.n_outside)
+                cells.append(f"**{cell}**" if r is best else cell)
+        else:
+            cells.append(_short(best.rung).replace("\n", " "))
         cells.append("failed" if best.outside is None else ", ".join(best.outside) or "none")
         cells.append(f"{best.rmse_ratio:.2f}")
         rows.append("| " + " | ".join(cells) + " |")
@@ -451,7 +458,7 @@ def markdown_table(ladder: Ladder) -> str:
 
 def plot_ladder(ladder: Ladder, *, title=None):
     """The heat map files x rungs of the parameters outside (of 13), each cell labelled with
-    its count, the best rung of each file framed. Returns the figure (8.8 in wide, its text at
+    its count, the best rung of each file framed. Returns the figure (7.6 in wide, its text at
     least 9 pt on the book's page: :func:`roughgp.common.plotting.font_sizes_on_page`)."""
     import matplotlib.pyplot as plt
     from matplotlib.patches import Rectangle

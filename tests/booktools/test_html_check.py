@@ -106,3 +106,16 @@ def test_the_command_refuses_a_folder_without_a_book(tmp_path, capsys):
     with pytest.raises(SystemExit) as info:
         html_check.main([str(tmp_path)])
     assert info.value.code == 2 and "holds no index.html" in capsys.readouterr().err
+
+
+@pytest.mark.skipif(BROWSER is None, reason="no Chromium on this machine")
+def test_the_browser_finds_a_table_wider_than_the_column(tmp_path):
+    """A table of 14 long columns runs past the 688 px column; one of three does not."""
+    wide = "| " + " | ".join(f"column number {k}" for k in range(14)) + " |\n" \
+        + "|" + "---|" * 14 + "\n| " + " | ".join("1.234567" for _ in range(14)) + " |\n"
+    narrow = "| a | b | c |\n|---|---|---|\n| 1 | 2 | 3 |\n"
+    _, html = _book(tmp_path / "wide", "# Tables\n\n" + wide)
+    found = html_check.wider_than_the_column(html / "page.html", BROWSER)
+    assert len(found) == 1 and found[0].startswith("wider than the 688 px column: table")
+    _, html = _book(tmp_path / "narrow", "# Tables\n\n" + narrow)
+    assert html_check.wider_than_the_column(html / "page.html", BROWSER) == []

@@ -131,6 +131,10 @@ def test_best_rung_and_share(tmp_path):
     assert "1 of 13 outside" in lines[0] and "The paper's eq 18: 5 outside" in lines[0]
     table = ml.markdown_table(again).splitlines()
     assert len(table) == 2 + 3 and "**1**" in table[2] and "| failed |" in table[3]
+    narrow = ml.markdown_table(again, per_rung=False).splitlines()
+    assert narrow[0].count("|") == 6 and "best model" in narrow[0]
+    best_name = ml._short(again.best(again.files[0]).rung).replace("\n", " ")
+    assert f"| {best_name} |" in narrow[2]
 
 
 def test_crop_window_and_bad_input():
