@@ -13,7 +13,7 @@ Two levels:
   MathJax ran) and reads the errors MathJax itself reports (``data-mjx-error``); it catches every
   MathJax error, at a second or two per page. :func:`wider_than_the_column` renders the page the
   same way, in a window 1280 px wide without scroll bars (the text column is then
-  :data:`roughgp.common.plotting.PAGE_WIDTH_PX`, 688 px), and names each table, image or display
+  :data:`roughgp.common.page.PAGE_WIDTH_PX`, 688 px), and names each table, image or display
   equation wider than the column (a table a reader must scroll sideways; code blocks are held to
   their characters by the tests instead).
 

@@ -2,7 +2,7 @@
 the page (too small, or shrunk with a figure wider than the column), no printed line wider than
 the page.
 
-The book's text column is :data:`roughgp.common.plotting.PAGE_WIDTH_PX` CSS pixels wide
+The book's text column is :data:`roughgp.common.page.PAGE_WIDTH_PX` CSS pixels wide
 (688 px). A figure shown wider is shrunk to it, with its text; a printed output line longer than
 :data:`MAX_LINE` characters (the column in the theme's monospace font) gets a scroll bar. (The
 book drops what a cell writes to stderr: ``stderr_output: remove`` in ``book/_config.yml``.)
@@ -12,8 +12,8 @@ does through :func:`booktools.findings.fail_on_findings`: a chapter or lab that 
 figure or line fails its test, naming the cell and what to change. The figures' text sizes come
 from the kernel: :func:`roughgp.common.plotting.use_style` records, with each figure it shows,
 its shown width and the size of its smallest text on the page
-(:data:`roughgp.common.plotting.SHOWN_KEY`); a figure a chapter shows from a file carries it in
-the file (:func:`roughgp.common.plotting.save_for_page`). A figure wider than the column without that record
+(:data:`roughgp.common.shown_figures.SHOWN_KEY`); a figure a chapter shows from a file carries it in
+the file (:func:`roughgp.common.shown_figures.save_for_page`). A figure wider than the column without that record
 fails too: its text cannot be measured (one as narrow as the column is shown at its size).
 """
 
@@ -22,8 +22,8 @@ from __future__ import annotations
 import dataclasses
 
 from roughgp.common.page_text import PAGE_COLUMNS
-from roughgp.common.plotting import (MIN_FONT_PT, PNG_TEXT_KEY, PAGE_WIDTH_PX,
-                                     SHOWN_KEY, png_text, png_width)
+from roughgp.common.page import MIN_FONT_PT, PAGE_WIDTH_PX
+from roughgp.common.shown_figures import PNG_TEXT_KEY, SHOWN_KEY, png_text, png_width
 
 MAX_LINE = PAGE_COLUMNS
 """Characters of a printed output line that fit the column (the theme's monospace code font at
@@ -50,7 +50,7 @@ def _long_lines(text: str) -> list[str]:
 def _smallest_text(output, png):
     """The recorded size of a shown figure's smallest text on the page: from the kernel's record
     in the output's metadata, or from the PNG itself (a figure saved by
-    :func:`~roughgp.common.plotting.save_for_page`); ``(False, None)`` when neither recorded it,
+    :func:`~roughgp.common.shown_figures.save_for_page`); ``(False, None)`` when neither recorded it,
     ``(True, None)`` when the figure has no text."""
     shown = output.get("metadata", {}).get("image/png", {})
     if SHOWN_KEY in shown:
@@ -81,8 +81,8 @@ def _figure_problem(output, where: str) -> str | None:
 
 def overflow(nb) -> list[str]:
     """What the executed notebook ``nb`` shows that does not fit the column: each figure with
-    text under :data:`~roughgp.common.plotting.MIN_FONT_PT` on the page (shrunk to the column
-    when wider than :data:`~roughgp.common.plotting.PAGE_WIDTH_PX`; a wider figure that was not
+    text under :data:`~roughgp.common.page.MIN_FONT_PT` on the page (shrunk to the column
+    when wider than :data:`~roughgp.common.page.PAGE_WIDTH_PX`; a wider figure that was not
     measured fails too), and each shown
     output line over :data:`MAX_LINE` characters; one line each, naming the code cell (counted
     from 1, as nbmake does). Empty when everything fits."""

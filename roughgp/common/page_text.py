@@ -1,6 +1,6 @@
 """Text that a chapter prints, fitted to the book's column.
 
-The book's text column (:data:`roughgp.common.plotting.PAGE_WIDTH_PX`, 688 px) holds
+The book's text column (:data:`roughgp.common.page.PAGE_WIDTH_PX`, 688 px) holds
 :data:`PAGE_COLUMNS` characters of the theme's monospace font; a longer output line gets a scroll
 bar (``booktools.page_fit`` fails a chapter that prints one). :func:`say` prints a sentence or a
 report wrapped to that width, with the units the book's figures use: the library's reports write

@@ -11,9 +11,13 @@ from importlib.resources import files
 import matplotlib.pyplot as plt
 import numpy as np
 
+from roughgp.common.page import (MIN_FONT_PT, PAGE_WIDTH_PX, points_on_page,
+                                 smallest_text_on_page, visible_texts)
+from roughgp.common.shown_figures import record_shown_figures
+
 __all__ = ["use_style", "STYLE", "PAGE_WIDTH_PX", "MIN_FONT_PT", "PAGE_TEXT_PT",
-           "font_sizes_on_page", "page_text_problems", "smallest_text_on_page", "SHOWN_KEY", "PNG_TEXT_KEY", "png_width",
-           "png_text", "save_for_page", "overlapping_tick_labels", "row_of_axes",
+           "font_sizes_on_page", "page_text_problems", "smallest_text_on_page",
+           "overlapping_tick_labels", "row_of_axes", "ROW_WIDTH_IN",
            "image", "compare_curves",
            "acvf_figure", "surface_figure"]
 
@@ -21,42 +25,11 @@ STYLE = str(files("roughgp.common") / "roughgp.mplstyle")
 """Path of the book's matplotlib style file."""
 
 
-PAGE_WIDTH_PX = 688
-"""Width of the book's text column in CSS pixels (sphinx-book-theme 1.x in a 1280 px window,
-measured on the built page: the article's content box): an image wider than this is shrunk to
-it, so a wide figure's text is shrunk with it."""
-
-MIN_FONT_PT = 9.0
-"""The smallest text size on the page (CSS points) that the book's figures allow."""
-
-
 PAGE_TEXT_PT = 11.0
 """The book's rule for a chapter's figures: every text (ticks, labels, titles, legends,
 colour bars, annotations) at least this size on the page, lengths in µm
 (:func:`page_text_problems`). A figure at most 6.25 in wide (the text column at the style's
 110 dpi) keeps the style's 10-11 pt text at 11.5-12.6 pt; a wider one is shrunk with its text."""
-
-
-def _to_page(fig, page_width_px=PAGE_WIDTH_PX, shown_width_px=None, dpi=None) -> float:
-    """CSS points on the page per point of ``fig``'s text, for the figure drawn at ``dpi``
-    (by default ``fig.dpi``) and shown as an image ``shown_width_px`` pixels wide (by default
-    its full size)."""
-    dpi = fig.dpi if dpi is None else dpi
-    if shown_width_px is None:
-        shown_width_px = fig.get_figwidth() * dpi
-    shrink = min(1.0, page_width_px / shown_width_px)
-    return dpi / 72.0 * shrink * 0.75
-
-
-def _visible_texts(fig):
-    """Every visible, non-empty text of ``fig`` (ticks, labels, titles, legends, colour bars,
-    annotations), after a draw."""
-    import matplotlib.text
-
-    fig.canvas.draw()
-    for text in fig.findobj(matplotlib.text.Text):
-        if text.get_text().strip() and text.get_visible():
-            yield text
 
 
 _UM = re.compile(r"\bum\b")
@@ -67,9 +40,9 @@ def page_text_problems(fig, min_pt=PAGE_TEXT_PT, page_width_px=PAGE_WIDTH_PX) ->
     than ``min_pt`` CSS points on the page (as :func:`font_sizes_on_page` measures, but every
     text of the figure: legends, colour bars and annotations too), and each that writes a
     length in ``um`` instead of µm. An empty list when the figure keeps the rule."""
-    scale = _to_page(fig, page_width_px)
+    scale = points_on_page(fig, page_width_px)
     problems = []
-    for text in _visible_texts(fig):
+    for text in visible_texts(fig):
         words = text.get_text()
         size = text.get_fontsize() * scale
         if size < min_pt - 1e-9:
@@ -77,103 +50,6 @@ def page_text_problems(fig, min_pt=PAGE_TEXT_PT, page_width_px=PAGE_WIDTH_PX) ->
         if _UM.search(words):
             problems.append(f"{words!r}: lengths in µm, not um")
     return problems
-
-
-def smallest_text_on_page(fig, shown_width_px, page_width_px=PAGE_WIDTH_PX, dpi=None):
-    """The size (CSS points) of the smallest visible text of ``fig`` on the page, for the figure
-    drawn at ``dpi`` (by default ``fig.dpi``, as a notebook shows it) into an image
-    ``shown_width_px`` pixels wide (cropped to its drawn content); None when it has no text."""
-    sizes = [text.get_fontsize() for text in _visible_texts(fig)]
-    if not sizes:
-        return None
-    return min(sizes) * _to_page(fig, page_width_px, shown_width_px, dpi)
-
-
-SHOWN_KEY = "roughgp"
-"""Key of the record :func:`use_style` adds to the metadata of each figure a notebook shows:
-``{"width_px": w, "smallest_text_pt": s}`` (``booktools.page_fit`` reads it)."""
-
-
-PNG_TEXT_KEY = "roughgp smallest text pt"
-"""Keyword of the PNG text chunk in which :func:`save_for_page` writes the size of the figure's
-smallest text on the page (CSS points), for an image that a chapter shows from a file."""
-
-
-def _png_bytes(data) -> bytes:
-    import base64
-
-    return base64.b64decode(data) if isinstance(data, str) else bytes(data)
-
-
-def png_width(data) -> int:
-    """Pixel width of a PNG given as bytes or base64 text (from its IHDR chunk)."""
-    import base64
-
-    head = base64.b64decode(data[:64]) if isinstance(data, str) else bytes(data[:24])
-    return int.from_bytes(head[16:20], "big")
-
-
-def png_text(data) -> dict[str, str]:
-    """The text chunks (``tEXt``) of a PNG given as bytes or base64 text: keyword -> text."""
-    raw, found, at = _png_bytes(data), {}, 8
-    while at + 8 <= len(raw):
-        length, kind = int.from_bytes(raw[at:at + 4], "big"), raw[at + 4:at + 8]
-        if kind == b"tEXt":
-            keyword, _, text = raw[at + 8:at + 8 + length].partition(b"\0")
-            found[keyword.decode("latin-1")] = text.decode("latin-1")
-        if kind == b"IEND":
-            break
-        at += 12 + length
-    return found
-
-
-def save_for_page(fig, path, dpi=110) -> float | None:
-    """Save ``fig`` as a PNG at ``dpi`` (cropped to its content) for a chapter to show from
-    the file, with the size of its smallest text on the page written in the file
-    (:data:`PNG_TEXT_KEY`, read by ``booktools.page_fit``); returns that size (CSS points)."""
-    import io
-
-    draft = io.BytesIO()
-    fig.savefig(draft, format="png", dpi=dpi, bbox_inches="tight")
-    smallest = smallest_text_on_page(fig, png_width(draft.getvalue()), dpi=dpi)
-    metadata = {} if smallest is None else {PNG_TEXT_KEY: f"{smallest:.2f}"}
-    fig.savefig(path, format="png", dpi=dpi, bbox_inches="tight", metadata=metadata)
-    return smallest
-
-
-def _record_shown_figures():
-    """In an IPython kernel: every figure shown inline carries in its output's metadata its
-    shown width and the smallest size of its text on the page (:data:`SHOWN_KEY`), so the tests
-    can hold each executed chapter to the column (``booktools.page_fit``). Outside IPython,
-    nothing."""
-    try:
-        from IPython import get_ipython
-    except ImportError:
-        return
-    shell = get_ipython()
-    if shell is None or not hasattr(shell, "display_formatter"):
-        return
-    import matplotlib
-    from matplotlib.figure import Figure
-
-    if "inline" not in matplotlib.get_backend():
-        return
-    plt.switch_backend(matplotlib.get_backend())  # the inline backend registers its formatter
-    formatter = shell.display_formatter.formatters["image/png"]
-    printer = formatter.type_printers.get(Figure)
-    if printer is None or getattr(printer, "records_page_size", False):
-        return
-
-    def shown(fig):
-        data = printer(fig)
-        if data is None:
-            return None
-        width = png_width(data)
-        return data, {SHOWN_KEY: {"width_px": width,
-                                  "smallest_text_pt": smallest_text_on_page(fig, width)}}
-
-    shown.records_page_size = True
-    formatter.for_type(Figure, shown)
 
 
 def overlapping_tick_labels(fig) -> list[str]:
@@ -198,7 +74,7 @@ def font_sizes_on_page(fig, page_width_px=PAGE_WIDTH_PX):
     ``fig`` appear on the book's page: the notebook shows a figure at ``fig.dpi`` pixels per
     inch, shrunk to the text column when wider (``page_width_px``). Returns
     ``{"ticks": smallest, "labels": smallest, "titles": smallest}`` over the visible axes."""
-    to_page = _to_page(fig, page_width_px)  # figure points -> CSS points on the page
+    to_page = points_on_page(fig, page_width_px)  # figure points -> CSS points on the page
     sizes = {"ticks": [], "labels": [], "titles": []}
     fig.canvas.draw()
     for ax in fig.axes:
@@ -217,9 +93,10 @@ def font_sizes_on_page(fig, page_width_px=PAGE_WIDTH_PX):
 
 def use_style():
     """Apply the book's figure style (colour-blind-safe cycle, light grid, tight layout); in a
-    notebook, also record with each figure shown its size on the page (:data:`SHOWN_KEY`)."""
+    notebook, also record with each figure shown its size on the page
+    (:func:`roughgp.common.shown_figures.record_shown_figures`)."""
     plt.style.use(STYLE)
-    _record_shown_figures()
+    record_shown_figures()
 
 
 ROW_WIDTH_IN = 7.6

@@ -111,7 +111,7 @@ def run(*, full: bool | None = None, only: Iterable[str] | None = None,
     """
     import matplotlib
     import matplotlib.pyplot as plt
-    from roughgp.common.plotting import save_for_page
+    from roughgp.common.shown_figures import save_for_page
 
     from roughgp.common.settings import resolve_full
     full = resolve_full(full)

@@ -7,7 +7,7 @@ import nbformat
 import pytest
 
 from booktools import page_fit
-from roughgp.common import plotting
+from roughgp.common import plotting, shown_figures
 
 # a 1 x 1 px PNG's signature and header, with the width patched in
 _PNG_HEAD = bytes.fromhex("89504e470d0a1a0a0000000d49484452")
@@ -21,7 +21,7 @@ def _png(width):
 
 
 def _figure_output(width, smallest=None, recorded=True):
-    metadata = {"image/png": {plotting.SHOWN_KEY: {"width_px": width,
+    metadata = {"image/png": {shown_figures.SHOWN_KEY: {"width_px": width,
                                                    "smallest_text_pt": smallest}}}
     return nbformat.v4.new_output("display_data", data={"image/png": _png(width)},
                                   metadata=metadata if recorded else {})
@@ -37,7 +37,7 @@ def _notebook(*outputs, tags=()):
 
 
 def test_png_width_reads_the_header():
-    assert plotting.png_width(_png(1002)) == 1002
+    assert shown_figures.png_width(_png(1002)) == 1002
 
 
 @pytest.mark.parametrize("output, fits", [
@@ -84,7 +84,7 @@ def test_a_kernel_records_the_figures_it_shows(tmp_path):
             "fig, ax = plt.subplots(figsize=(6, 3)); ax.plot([0, 1]); ax.set_xlabel('x (µm)')")]
     NotebookClient(nb, kernel_name="python3", timeout=120, resources={
         "metadata": {"path": str(tmp_path)}}).execute()
-    records = [o["metadata"]["image/png"][plotting.SHOWN_KEY] for cell in nb.cells[1:]
+    records = [o["metadata"]["image/png"][shown_figures.SHOWN_KEY] for cell in nb.cells[1:]
                for o in cell.outputs if "image/png" in o.get("data", {})]
     assert len(records) == 2
     wide, narrow = records
@@ -111,10 +111,10 @@ def test_a_figure_shown_from_a_file_carries_its_text_size(tmp_path):
         ax.plot([0, 1], label="a line")
         ax.legend()
         path = tmp_path / f"{width}.png"
-        sizes[width] = plotting.save_for_page(fig, path, dpi=110)
+        sizes[width] = shown_figures.save_for_page(fig, path, dpi=110)
         plt.close(fig)
         data = base64.b64encode(path.read_bytes()).decode()
-        assert float(plotting.png_text(data)[plotting.PNG_TEXT_KEY]) == pytest.approx(
+        assert float(shown_figures.png_text(data)[shown_figures.PNG_TEXT_KEY]) == pytest.approx(
             sizes[width], abs=0.01)
         output = nbformat.v4.new_output("display_data", data={"image/png": data})
         problems = page_fit.overflow(_notebook(output))
