@@ -12,17 +12,18 @@ does through :func:`booktools.findings.fail_on_findings`: a chapter or lab that 
 figure or line fails its test, naming the cell and what to change. The figures' text sizes come
 from the kernel: :func:`roughgp.common.plotting.use_style` records, with each figure it shows,
 its shown width and the size of its smallest text on the page
-(:data:`roughgp.common.shown_figures.SHOWN_KEY`); a figure a chapter shows from a file carries it in
-the file (:func:`roughgp.common.shown_figures.save_for_page`). A figure wider than the column without that record
-fails too: its text cannot be measured (one as narrow as the column is shown at its size).
+(:data:`roughgp.common.shown_figures.SHOWN_KEY`); a figure a chapter shows from a file carries
+it in the file (:func:`roughgp.common.shown_figures.save_for_page`). A figure wider than the
+column without that record fails too: its text cannot be measured (one as narrow as the column
+is shown at its size).
 """
 
 from __future__ import annotations
 
 import dataclasses
 
-from roughgp.common.page_text import PAGE_COLUMNS
 from roughgp.common.page import MIN_FONT_PT, PAGE_WIDTH_PX
+from roughgp.common.page_text import PAGE_COLUMNS
 from roughgp.common.shown_figures import PNG_TEXT_KEY, SHOWN_KEY, png_text, png_width
 
 MAX_LINE = PAGE_COLUMNS
@@ -50,8 +51,8 @@ def _long_lines(text: str) -> list[str]:
 def _smallest_text(output, png):
     """The recorded size of a shown figure's smallest text on the page: from the kernel's record
     in the output's metadata, or from the PNG itself (a figure saved by
-    :func:`~roughgp.common.shown_figures.save_for_page`); ``(False, None)`` when neither recorded it,
-    ``(True, None)`` when the figure has no text."""
+    :func:`~roughgp.common.shown_figures.save_for_page`); ``(False, None)`` when neither
+    recorded it, ``(True, None)`` when the figure has no text."""
     shown = output.get("metadata", {}).get("image/png", {})
     if SHOWN_KEY in shown:
         return True, shown[SHOWN_KEY].get("smallest_text_pt")

@@ -1,5 +1,6 @@
 """The book's figures are readable on its page: text >= 9 pt at the text column's width
-(plotting.font_sizes_on_page), for the style's figures up to 8.5 in wide and the model-check grid."""
+(plotting.font_sizes_on_page), for the style's figures up to 8.5 in wide and the model-check
+grid."""
 
 import matplotlib
 
