@@ -75,3 +75,20 @@ def test_the_check_says_no_to_a_long_code_line_and_yes_to_a_short_one():
     assert too_long_code_lines(f"````md\n```\n{long}\n```\n````\n{long}\n") == [(3, MAX + 1)]
     assert too_long_code_lines(f"````{{note}}\n{long}\n```python\n{long}\n```\n````\n") == [
         (4, MAX + 1)]
+
+
+NOTEBOOKS = sorted((ROOT / "book").glob("*.ipynb")) + sorted((ROOT / "notebooks").glob("*.ipynb"))
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda path: str(path.relative_to(ROOT)))
+def test_every_code_line_of_a_notebooks_text_fits_the_book_column(path):
+    """The code blocks written in a chapter's or a lab's Markdown cells (commands, snippets)."""
+    import nbformat
+
+    nb = nbformat.read(path, as_version=4)
+    long = [(index, number, length) for index, cell in enumerate(nb.cells)
+            if cell.cell_type == "markdown"
+            for number, length in too_long_code_lines(cell.source)]
+    assert not long, "\n".join(
+        f"{path.relative_to(ROOT)}: cell {index}, line {number}: {length} characters, the "
+        f"column holds {MAX}" for index, number, length in long)
