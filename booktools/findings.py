@@ -26,7 +26,7 @@ REGRESSED = "regressed_claims"
 # glue's name in the output's metadata
 GLUE_PREFIX = "application/papermill.record/"
 
-__all__ = ["REGRESSED", "fail_on_findings", "glued", "regressed_claims"]
+__all__ = ["REGRESSED", "fail_on_findings", "failed", "glued", "regressed_claims"]
 
 
 def glued(nb, name: str):
@@ -67,8 +67,6 @@ def fail_on_findings(result, path=None):
     claims = regressed_claims(result.nb)
     if not claims:
         return result
-    from nbmake.nb_result import NotebookError
-
     where = f"{path}: " if path is not None else ""
     summary = (f"{where}{len(claims)} regressed claim(s): "
                + ", ".join(c.split(":")[0] for c in claims))
@@ -79,4 +77,13 @@ def fail_on_findings(result, path=None):
     index = next((i for i, cell in enumerate(result.nb.cells) if cell.cell_type == "code"
                   and any(o.get("metadata", {}).get("scrapbook", {}).get("name") == REGRESSED
                           for o in cell.get("outputs", []))), -1)
+    return failed(result, summary, trace, index)
+
+
+def failed(result, summary: str, trace: str, index: int = -1):
+    """nbmake's ``NotebookResult`` ``result`` with its ``error`` set to ``summary`` and
+    ``trace`` at cell ``index`` (-1: no one cell): how a notebook that ran without error fails
+    its test on what it reports (here, and :mod:`booktools.page_fit`)."""
+    from nbmake.nb_result import NotebookError
+
     return dataclasses.replace(result, error=NotebookError(summary, trace, index))

@@ -20,8 +20,7 @@ is shown at its size).
 
 from __future__ import annotations
 
-import dataclasses
-
+from booktools.findings import failed
 from roughgp.common.page import MIN_FONT_PT, PAGE_WIDTH_PX
 from roughgp.common.page_text import PAGE_COLUMNS
 from roughgp.common.shown_figures import PNG_TEXT_KEY, SHOWN_KEY, png_text, png_width
@@ -124,10 +123,8 @@ def fail_on_overflow(result, path=None):
     problems = overflow(result.nb)
     if not problems:
         return result
-    from nbmake.nb_result import NotebookError
-
     where = f"{path}: " if path is not None else ""
     summary = f"{where}{len(problems)} output(s) wider than the book's column"
     trace = (f"{where}what the page shows must fit its {PAGE_WIDTH_PX} px column "
              "(booktools/page_fit.py):\n" + "\n".join(f"  {p}" for p in problems))
-    return dataclasses.replace(result, error=NotebookError(summary, trace, -1))
+    return failed(result, summary, trace)
