@@ -48,12 +48,19 @@ def report(records) -> str:
     table = coverage_table(records)
     minutes = sum(r["seconds"] for r in records) / 60
     on = sum(row["on_target"] for row in table)
+    consistent = sum(row["consistent"] for row in table)
+    clear = ", ".join(f"{row['map']} {row['across'][0]}-{row['across'][1]}" for row in table
+                      if row["clearly_below"] or row["clearly_above"])
     lines = [f"# The fill's band in holes of every size ({datetime.date.today()})", "",
              f"From `{RECORDED.name}`: {len(records)} cases (maps of `data/`, central {CROP}² "
              f"points; per case {', '.join(f'{n} holes {lo}-{hi}' for lo, hi, n in HOLE_CLASSES)}"
              f" points across), {minutes:.0f} CPU minutes of fills. Coverage of the 95 % band "
              f"by hole size and depth; in brackets the self-check's one factor it replaced. "
-             f"Within {TARGET[0]:.0%}-{TARGET[1]:.0%}: {on} of {len(table)} map-class pairs.",
+             f"Within {TARGET[0]:.0%}-{TARGET[1]:.0%}: {on} of {len(table)} map-class pairs. "
+             f"The holes of a case err together: after each share, its standard error with "
+             f"the cases as clusters. Within 2 standard errors of 95 %: {consistent} of "
+             f"{len(table)}; outside the target by more than 2 standard errors: "
+             f"{clear or 'none'}.",
              "", "| map | seeds | " + " | ".join(f"{lo}-{hi} across" for lo, hi, _ in
                                                   HOLE_CLASSES) + " |",
              "|---|---|" + "---|" * len(HOLE_CLASSES)]
@@ -65,11 +72,13 @@ def report(records) -> str:
         for lo, hi, _ in HOLE_CLASSES:
             row = rows.get((lo, hi))
             cells.append("-" if row is None else
-                         f"{row['coverage']:.1%} ({row['coverage_one_factor']:.1%})"
-                         + ("" if row["on_target"] else " *"))
+                         f"{row['coverage']:.1%} ± {row['standard_error']:.1%} "
+                         f"({row['coverage_one_factor']:.1%})"
+                         + ("" if row["on_target"] else " *")
+                         + (" †" if row["clearly_below"] or row["clearly_above"] else ""))
         lines.append(f"| {name} | {max(r['cases'] for r in rows.values())} | "
                      + " | ".join(cells) + " |")
-    lines += ["", "`*`: outside the target."]
+    lines += ["", "`*`: outside the target; `†`: outside it by more than 2 standard errors."]
     return "\n".join(lines) + "\n"
 
 

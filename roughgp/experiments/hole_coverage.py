@@ -15,15 +15,17 @@ holes: the recorded run pools many seeds per map (``benchmarks/hole_coverage.py`
 
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
 
 from roughgp.common.jsonl import read_records
 from roughgp.experiments.real_maps import DATA, central_crop
+from roughgp.filling.self_check import LEVEL
 
 __all__ = ["HOLE_CLASSES", "CROP", "RECORDED", "TARGET", "punch_holes", "coverage_case",
-           "load_records", "coverage_table"]
+           "load_records", "coverage_table", "clustered_standard_error"]
 
 #: ``(smallest, largest points across, holes per case)`` of each class
 HOLE_CLASSES = ((2, 5, 30), (6, 10, 12), (11, 20, 5), (21, 40, 3))
@@ -86,23 +88,51 @@ def load_records(path=RECORDED) -> list[dict]:
 def coverage_table(records) -> list[dict]:
     """Per map and hole class, pooled over the seeds: the points, the cases, the coverage of
     the band by hole size and depth and of the one-factor band, and whether the former is
-    within :data:`TARGET`."""
+    within :data:`TARGET` (``on_target``).
+
+    The holes of one case err together, so the pooled coverage scatters with the seeds by more
+    than its points suggest. ``standard_error`` is the ratio estimator's standard error with
+    the cases as clusters (:func:`clustered_standard_error`); ``consistent``: the level 0.95
+    lies within 2 standard errors (the run cannot tell the band from a calibrated one);
+    ``clearly_below`` / ``clearly_above``: even 2 standard errors do not reach :data:`TARGET`
+    (a miss the seeds do not explain)."""
     rows = {}
     for record in records:
         for entry in record["classes"]:
             key = (record["map"], tuple(entry["across"]))
             row = rows.setdefault(key, {"map": record["map"], "across": tuple(entry["across"]),
                                         "cases": 0, "points": 0, "inside": 0,
-                                        "inside_one_factor": 0})
+                                        "inside_one_factor": 0, "per_case": []})
             row["cases"] += 1
+            row["per_case"].append((entry["inside"], entry["points"]))
             for field in ("points", "inside", "inside_one_factor"):
                 row[field] += entry[field]
     table = []
     for row in rows.values():
+        per_case = row.pop("per_case")
         if row["points"] == 0:
             continue
         row["coverage"] = row["inside"] / row["points"]
         row["coverage_one_factor"] = row["inside_one_factor"] / row["points"]
         row["on_target"] = TARGET[0] <= row["coverage"] <= TARGET[1]
+        se = clustered_standard_error(*zip(*per_case))
+        row["standard_error"] = se
+        row["consistent"] = bool(abs(row["coverage"] - LEVEL) <= 2 * se)
+        row["clearly_below"] = bool(row["coverage"] + 2 * se < TARGET[0])
+        row["clearly_above"] = bool(row["coverage"] - 2 * se > TARGET[1])
         table.append(row)
     return table
+
+
+def clustered_standard_error(inside, points) -> float:
+    """The standard error of the pooled share :math:`R = \\sum a_i / \\sum n_i` with the
+    cases :math:`i` as independent clusters (``inside`` :math:`a_i`, ``points`` :math:`n_i`):
+    :math:`\\sqrt{m/(m-1)\\,\\sum (a_i - R n_i)^2} / \\sum n_i` over the :math:`m` cases
+    with points (NaN with fewer than 2)."""
+    a, n = np.asarray(inside, dtype=float), np.asarray(points, dtype=float)
+    a, n = a[n > 0], n[n > 0]
+    m = a.size
+    if m < 2:
+        return math.nan
+    share = a.sum() / n.sum()
+    return float(math.sqrt(m / (m - 1) * np.sum((a - share * n) ** 2)) / n.sum())
