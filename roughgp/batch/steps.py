@@ -5,10 +5,13 @@ with ``--seed`` set to the file's seed (:func:`roughgp.batch.records.file_seed`)
 * ``texture``: :func:`roughgp.texture` after the reader (``roughgp texture``);
 * ``fit``: :func:`~roughgp.surface_models.fit.fit_surface_model` (eq 18, ``--model eq18``),
   :func:`~roughgp.surface_models.ladder.fit_rung` (``matern``, ``sm``, ``psd``),
-  :func:`~roughgp.surface_models.ladder.choose_model` (``auto``), or for a profile
+  :func:`~roughgp.surface_models.ladder.choose_model` (``auto``), on the whole map or on the
+  half ``part`` (``roughgp fit ground --part``), or for a profile
   :func:`~roughgp.surface_models.fit.fit_profile_model` on its mean profile (``roughgp fit``);
   the model file is written to the file's folder;
 * ``check``: :func:`roughgp.check` of the model file read back, as ``roughgp check`` reads it;
+  for a model fitted on a half (``part``), :func:`~roughgp.checking.held_out.held_out_check`
+  on that half and the other (``roughgp check --held-out``);
 * ``fill``: :func:`roughgp.fill` of a surface with unmeasured points (``roughgp fill``);
 * ``simulate``: :func:`roughgp.simulate` of the model at the file's shape, put through the rest
   of its operator chain (``roughgp simulate --from``).
@@ -83,8 +86,8 @@ def run_file(path: str, sha256: str, plan: Plan, folder: str) -> dict:
                     record["fit"], model_path = _fit(path, heights, plan.of("fit"),
                                                      record["seed"], folder)
                 elif step == "check":
-                    record["check"] = _check(path, heights, model_path, plan.of("check"),
-                                             record["seed"], folder)
+                    record.update(_check(path, heights, model_path, plan.of("check"),
+                                         record["seed"], folder))
                 elif step == "fill":
                     record["fill"] = _fill(path, heights, plan.of("fill"), record["seed"],
                                            folder)
@@ -153,6 +156,13 @@ def _fit(path, heights, options, seed, folder):
     data = of_file(path, heights)
     if heights.kind == "profile" or options.get("profile"):
         return _fit_profile(heights, options, seed, data, folder)
+    if options.get("part"):  # fit ground --part HALF: the part is recorded in the model file
+        import dataclasses
+
+        from roughgp.checking.held_out import part_of
+        part = part_of(heights.z.shape, options["part"])
+        data["part"] = part.to_dict()
+        heights = dataclasses.replace(heights, z=part.cut(heights.z))
     from roughgp.surface_models.fit import fit_surface_model
     from roughgp.surface_models.ladder import choose_model, fit_rung
     operators = operators_of(options, s_default="none", l_default="auto")
@@ -183,6 +193,8 @@ def _fit(path, heights, options, seed, folder):
         else:
             model, notes = fit_rung(rung, z, heights.spacing, **settings)
     model_path = _save(model, folder)
+    if "part" in data:
+        entry["part"] = data["part"]
     entry.update(equation=model.equation, describe=model.describe(),
                  marginal=model.marginal_method, operators=list(model.operators),
                  hyperparameters=dict(model.hyperparameters), notes=list(notes),
@@ -219,18 +231,25 @@ def _fit_profile(heights, options, seed, data, folder):
 
 
 def _check(path, heights, model_path, options, seed, folder):
-    """``roughgp check MODEL.json FILE --seed SEED`` (the model file read back, as there)."""
+    """``roughgp check MODEL.json FILE --seed SEED`` (the model file read back, as there); for
+    a model fitted on a part (``--part``), ``check --held-out``: the fitted part and the other
+    half, the latter recorded as ``held_out``."""
     from roughgp.api import check
     from roughgp.surface_models.model import FittedModel
     model = FittedModel.load(model_path)
     spacing = heights.spacing if model.kind == "surface" else (heights.spacing[-1],)
     n = options.get("simulations", 19)
-    result = check(model, heights.z, spacing, n_simulations=n, seed=seed)
-    entry = {"simulations": n, "outside": list(result.outside),
-             "parameters": {p.name: {"measured": p.measured, "rank": int(p.rank),
-                                     "outside": bool(p.outside), "low": p.low,
-                                     "median": p.median, "high": p.high}
-                            for p in result.parameters}}
+    part = model.data.get("part") if isinstance(model.data, dict) else None
+    if part is not None and model.kind == "surface":
+        from roughgp.checking.held_out import Part, held_out_check
+        both = held_out_check(model, heights.z, spacing, fitted_part=Part.from_dict(part),
+                              n_simulations=n, seed=seed)
+        result = both.fitted
+        entries = {"check": _check_entry(both.fitted, n, both.fitted_part),
+                   "held_out": _check_entry(both.held_out, n, both.held_out_part)}
+    else:
+        result = check(model, heights.z, spacing, n_simulations=n, seed=seed)
+        entries = {"check": _check_entry(result, n)}
     if options.get("plot"):
         import matplotlib
         matplotlib.use("Agg")
@@ -239,11 +258,27 @@ def _check(path, heights, model_path, options, seed, folder):
         from roughgp.checking.model_check import plot_model_check
         from roughgp.common.atomic import atomic_output
         out = Path(folder) / ARTEFACTS["check"]
+        shown = both.held_out if "held_out" in entries else result
+        where = " (the held-out half)" if "held_out" in entries else ""
         with atomic_output(out) as partial:
-            title = f"{Path(path).name}: the measurement (line) among {n} simulations"
-            figure = plot_model_check(result, partial, title=title)
+            title = (f"{Path(path).name}{where}: the measurement (line) among {n} "
+                     f"simulations")
+            figure = plot_model_check(shown, partial, title=title)
         plt.close(figure)
-        entry["plot"] = _relative(out)
+        entries["check"]["plot"] = _relative(out)
+    return entries
+
+
+def _check_entry(result, n, part=None) -> dict:
+    """A check's record: the simulations, the parameters outside, and per parameter the
+    measured value, its rank and the simulated range (and the part checked, if any)."""
+    entry = {"simulations": n, "outside": list(result.outside),
+             "parameters": {p.name: {"measured": p.measured, "rank": int(p.rank),
+                                     "outside": bool(p.outside), "low": p.low,
+                                     "median": p.median, "high": p.high}
+                            for p in result.parameters}}
+    if part is not None:
+        entry["part"] = part.to_dict()
     return entry
 
 

@@ -8,10 +8,12 @@ The columns, in this order: ``path``, ``sha256``, ``status`` (``done`` or ``fail
 ``Rq``, ...: heights and lengths in µm, ``Std`` in degrees, material ratios in percent); the
 model's ``model`` (the rung: ``eq18``, ``eq18-matern``, ``sm2d``, ``measured-psd``, ``eq21``),
 ``model_chosen`` (``--model auto``), ``marginal`` and its hyperparameters as
-``fit.NAME`` (lists as JSON text), ``model_file``; the check's ``check_outside`` (the parameters
-outside the simulated range, comma-separated) and, per parameter, ``check.NAME.rank`` and
-``check.NAME.outside``; ``filled``, ``filled_file``, ``simulated_file``; the timings
-``seconds.STEP`` and ``seconds.total``. A column a file does not have is empty (null).
+``fit.NAME`` (lists as JSON text), ``model_file``, ``part`` (the half fitted, ``--part``); the
+check's ``check_outside`` (the parameters outside the simulated range, comma-separated),
+``check_count`` (how many) and, per parameter, ``check.NAME.rank`` and ``check.NAME.outside``
+(with ``--part``: on the fitted half; the same columns ``held_out*`` on the other half);
+``filled``, ``filled_file``, ``simulated_file``; the timings ``seconds.STEP`` and
+``seconds.total``. A column a file does not have is empty (null).
 """
 
 from __future__ import annotations
@@ -48,12 +50,16 @@ def _row(record: dict) -> dict:
             row[f"fit.{name}"] = (json.dumps(value) if isinstance(value, (list, dict))
                                   else value)
         row["model_file"] = fit.get("model_file")
-    check = record.get("check")
-    if check:
-        row["check_outside"] = ",".join(check.get("outside", []))
-        for name, p in check.get("parameters", {}).items():
-            row[f"check.{name}.rank"] = p.get("rank")
-            row[f"check.{name}.outside"] = p.get("outside")
+    if fit and fit.get("part"):
+        row["part"] = fit["part"].get("name")
+    for key in ("check", "held_out"):
+        check = record.get(key)
+        if check:
+            row[f"{key}_outside"] = ",".join(check.get("outside", []))
+            row[f"{key}_count"] = len(check.get("outside", []))
+            for name, p in check.get("parameters", {}).items():
+                row[f"{key}.{name}.rank"] = p.get("rank")
+                row[f"{key}.{name}.outside"] = p.get("outside")
     fill = record.get("fill")
     if fill:
         row.update(filled=fill.get("filled"), filled_file=fill.get("file"))

@@ -19,6 +19,7 @@ __all__ = ["add_parser", "run", "steps_option", "exit_code", "FAILED_BASE"]
 FAILED_BASE = 10
 
 _STEPS = ("texture", "fit", "check", "fill", "simulate")
+_HALVES = ("left", "right", "top", "bottom")   # roughgp.checking.held_out.HALVES
 _ONE, _MANY = FAILED_BASE + 1, FAILED_BASE + 99
 
 _BATCH = f"""\
@@ -47,6 +48,12 @@ complete and current (the same file bytes, the same options, the same roughgp ve
 skipped, failed files are tried again. A file that fails (unreadable, corrupt, a step
 refused) gets its error in its row and the batch goes on.
 
+Out of sample: --part left (right, top, bottom) fits each surface on that half; the check then
+checks the model on the half it was fitted on and on the other half, which it did not see
+(columns check.* and held_out.*, as 'roughgp check --held-out'): a model that describes the
+surface, not the crop it saw, leaves about as few outside on the held-out half as on the
+fitted one.
+
 A folder is read without its subfolders, hidden files, and files that are no measurements
 (.md, .json, .png, ..., LICENSE*, README*); files inside FOLDER are never inputs and an input
 is never written over.
@@ -58,6 +65,7 @@ column); 130 interrupted (the complete records are kept: run again to resume).
 examples:
   roughgp batch data/ --out batch/                      texture, fit, check of every map
   roughgp batch 'maps/*.x3p' --steps texture,fit --model auto --workers 2 --out maps-batch/
+  roughgp batch maps/ --part left --steps fit,check --out held-out/   out of sample
   roughgp batch maps/ --scheduler tcp://HOST:8786 --out /shared/batch/"""
 
 
@@ -153,6 +161,11 @@ def add_parser(sub, formatter) -> None:
     f.add_argument("--candidates", type=integer("--candidates"), default=10, metavar="N",
                    help=f"a profile fit's initialisations, {bounds_text('--candidates')} "
                         f"(default 10)")
+    f.add_argument("--part", choices=_HALVES, default=None,
+                   help="fit each surface on this half only (top: the first rows); the check "
+                        "then checks the model on that half and on the other half it did not "
+                        "see (as 'roughgp fit ground --part' and 'check --held-out'); "
+                        "profiles are fitted whole")
     c = b.add_argument_group("check and fill")
     c.add_argument("--simulations", type=integer("--simulations"), default=19, metavar="N",
                    help=f"check: simulations of the model, {bounds_text('--simulations')} "
@@ -192,7 +205,8 @@ def plan_of(args):
                "fit": {**operators, "model": args.rung, "marginal": args.marginal,
                        "nu": args.nu, "likelihood": args.likelihood, "block": args.block,
                        "blocks": args.blocks, "mixtures": args.mixtures,
-                       "candidates": args.candidates},
+                       "candidates": args.candidates,
+                       **({"part": args.part} if args.part else {})},
                "check": {"simulations": args.simulations, "plot": args.plots},
                "fill": {"form": args.form, "degree": args.degree, "axis": args.axis,
                         "method": args.fill_method,

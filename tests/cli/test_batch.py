@@ -227,3 +227,55 @@ def test_fit_model_auto_gives_the_single_command_s_choice_and_model(tmp_path, ca
     single = json.loads(model.read_text())
     assert single["equation"] == record["fit"]["equation"]
     assert single["hyperparameters"] == record["fit"]["hyperparameters"]
+
+
+def test_part_fits_a_half_and_checks_the_half_it_did_not_see(tmp_path, capsys):
+    """``--part left``: each surface fitted on its left half, checked on that half and on the
+    right half, which is three times rougher: the held-out columns say no where the fitted
+    ones do not, and both are the numbers of ``fit ground --part left`` and ``check
+    --held-out`` with the file's seed."""
+    from roughgp.experiments.held_out import synthetic_map
+    z, _, _ = synthetic_map("stationary", 4, shape=(32, 64))
+    z = z.copy()
+    z[:, 32:] *= 3.0
+    folder = tmp_path / "in"
+    folder.mkdir()
+    np.save(folder / "map.npy", z)
+    out = tmp_path / "out"
+    code, _, err = run(capsys, "batch", folder, "--out", out, "--workers", "1", "--steps",
+                       "fit,check", "--part", "left", "--l-filter", "none", "--block", "12",
+                       "--blocks", "4", "--simulations", "9")
+    assert code == 0, err
+    (record,) = _records(out).values()
+    assert record["fit"]["part"]["name"] == "left"
+    assert record["check"]["part"]["name"] == "left"
+    assert record["held_out"]["part"]["name"] == "right"
+    assert "Sq" in record["held_out"]["outside"] and "Sq" not in record["check"]["outside"]
+    (row,) = read_csv_table(out / "table.csv")
+    assert row["part"] == "left" and int(row["held_out_count"]) > int(row["check_count"])
+    assert row["held_out.Sq.outside"] == "True"
+    model, checked = tmp_path / "left.json", tmp_path / "held.json"
+    code, _, err = run(capsys, "fit", "ground", folder / "map.npy", "--part", "left",
+                       "--l-filter", "none", "--block", "12", "--blocks", "4", "--seed",
+                       record["seed"], "--out", model)
+    assert code == 0, err
+    assert json.loads(model.read_text())["hyperparameters"] == record["fit"]["hyperparameters"]
+    code, _, err = run(capsys, "check", model, folder / "map.npy", "--held-out", "--seed",
+                       record["seed"], "--simulations", "9", "--json", checked)
+    assert code == 0, err
+    single = json.loads(checked.read_text())
+    for key, batch_key in (("fitted", "check"), ("held_out", "held_out")):
+        assert ({p["name"]: (p["measured"], p["rank"]) for p in single[key]["parameters"]}
+                == {name: (p["measured"], p["rank"])
+                    for name, p in record[batch_key]["parameters"].items()})
+
+
+def test_part_is_a_half_only(tmp_path, capsys):
+    code, _, err = run(capsys, "batch", tmp_path, "--out", tmp_path / "o", "--part", "0:8,0:8")
+    assert code == 2 and "--part" in err and "left" in err
+
+
+def test_the_halves_are_the_checks():
+    from roughgp.checking.held_out import HALVES
+    from roughgp.cli.batch import _HALVES
+    assert _HALVES == HALVES
