@@ -16,6 +16,11 @@ from roughgp.cli.fit_periodic import (
     fit_periodic_profile_command,
     note_periodic_mark,
 )
+from roughgp.cli.fit_regions import (
+    fit_field_command,
+    fit_population_command,
+    fit_population_files_command,
+)
 from roughgp.surface_models.schema import MAX_ANCHORS
 from roughgp.cli.options import (
     add_operator_options,
@@ -106,6 +111,14 @@ simulations are then Johnson-transformed GPs, roughgp.non_gaussian).
           only as far as its fit is sure of it; a gradient is kept where a test finds one),
           interpolated between the tiles' centres; Gaussian heights; for a surface whose
           roughness or lay changes across the part (not among auto's choices);
+  population
+          eq 18 over a population of regions (roughgp.surface_models.population_model): from
+          several measurements of one part (fit ground A.x3p B.x3p ... --model population,
+          each file one region) or the --anchors M N tiles of one map (default 2 2), eq 18
+          fitted on each region by the Whittle likelihood and pooled by random effects; each
+          simulated surface draws its own region's variance, lengths and lay about the
+          population's, so a check of another region of the part compares it with many
+          regions; Gaussian heights (not among auto's choices);
   periodic
           a periodic machined surface (turned, milled, shaped, fly-cut) as a deterministic
           feed mark plus Gaussian processes (roughgp.surface_models.periodic_model): the mark
@@ -123,7 +136,8 @@ exactly by iterated amplitude-adjusted Fourier transforms, roughgp.surface_model
 
 examples:
   roughgp fit ground land.x3p --form cylinder --out land-model.json
-  roughgp fit ground map.x3p --model auto --marginal iaaft --out map-model.json"""
+  roughgp fit ground map.x3p --model auto --marginal iaaft --out map-model.json
+  roughgp fit ground a.x3p b.x3p c.x3p d.x3p --model population --out part-model.json"""
 
 
 def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
@@ -166,6 +180,9 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                           description=_GROUND, epilog=input_epilog,
                           help="eq 18 + noise on a measured surface with holes")
     add_input_options(g, kind=False, what="the surface, heights in um, NaN where missing")
+    g.add_argument("more", nargs="*", metavar="FILE2",
+                   help="--model population: further measurements of the same part, of the "
+                        "same spacing (each one region)")
     add_operator_options(g, s_default="none", l_default="auto")
     add_spurious_options(g)
     add_part_option(g)
@@ -173,11 +190,13 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                    help="smoothness: 0.5 is eq 18 (default); 1.5 or 2.5 its anisotropy with a "
                         "smoother Matern profile, for smooth surfaces (beyond the paper)")
     g.add_argument("--model", dest="rung",
-                   choices=("eq18", "matern", "sm", "psd", "field", "periodic", "auto"),
+                   choices=("eq18", "matern", "sm", "psd", "field", "population", "periodic",
+                            "auto"),
                    default="eq18", help="the model: eq18 (default), matern, sm (a 2-D spectral "
                    "mixture of up to 4 components, Q by BIC, for lays and periods), psd (the "
-                   "measured PSD), field, periodic (a feed mark plus GPs) or auto (chosen by a "
-                   "held-out score; see above)")
+                   "measured PSD), field, population (regions drawn from a population), "
+                   "periodic (a feed mark plus GPs) or auto (chosen by a held-out score; see "
+                   "above)")
     g.add_argument("--feed", type=float, default=None, metavar="F",
                    help=f"--model periodic: the feed in um when known, "
                         f"{bounds_text('--feed')} and at most a quarter of the map (default: "
@@ -192,10 +211,12 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                         "grows with the map)")
     g.add_argument("--anchors", type=integer("--anchors"), nargs=2, default=None, metavar=("M", "N"),
                    help="--model field: the fields' anchors, the centres of M x N tiles of "
-                        "at least 16 x 16 points, M and N in [1, 32] (default 4 4)")
+                        "at least 16 x 16 points, M and N in [1, 32] (default 4 4); --model "
+                        "population of one map: its M x N tiles are the regions (default 2 2)")
     g.add_argument("--device", metavar="DEV",
-                   help="--likelihood whittle or --model field: compute the Whittle fits' "
-                        "FFTs and gradients through torch on DEV (cpu, cuda, cuda:N)")
+                   help="--likelihood whittle or --model field or population: compute the "
+                        "Whittle fits' FFTs and gradients through torch on DEV (cpu, cuda, "
+                        "cuda:N)")
     g.add_argument("--block", type=integer("--block"), default=24, metavar="B",
                    help=f"side of the fit's blocks in points, {bounds_text('--block')} "
                         f"(default 24)")
@@ -209,8 +230,11 @@ def run(args) -> int:
     """``roughgp fit MODEL FILE``."""
     _check_fit_device(args)
     operators = operator_settings(args)
+    more = tuple(getattr(args, "more", None) or ())
     out, flagged_out = check_outputs(("--out", args.out, "json"), flagged_output(args),
-                                     inputs=(("FILE", args.file),), force=args.force)
+                                     inputs=(("FILE", args.file),
+                                             *(("FILE2", f) for f in more)),
+                                     force=args.force)
     heights = read_input(args, getattr(args, "kind", "surface"))
     full_shape = heights.z.shape
     heights, part = crop_to_part(args, heights)
@@ -226,6 +250,8 @@ def run(args) -> int:
     start = time.perf_counter()
     if args.model == "profile":
         model, found = _fit_profile(args, heights, operators, data), None
+    elif more:
+        model, found = fit_population_files_command(args, heights, operators, data, more), None
     else:
         model, found = _fit_ground(args, heights, operators, data)
     err(f"({time.perf_counter() - start:.1f} s)")
@@ -251,15 +277,26 @@ def _check_fit_device(args) -> None:
     device = getattr(args, "device", None)
     anchors = getattr(args, "anchors", None)
     if anchors is not None:
-        if args.rung != "field":
-            raise UsageError(f"--anchors applies to --model field only (got --model "
-                             f"{args.rung})")
+        if args.rung not in ("field", "population"):
+            raise UsageError(f"--anchors applies to --model field and population only (got "
+                             f"--model {args.rung})")
         if not all(1 <= a <= MAX_ANCHORS for a in anchors):
             raise UsageError(f"--anchors must be two integers in [1, {MAX_ANCHORS}], got "
                              f"{anchors[0]} {anchors[1]}")
+    more = getattr(args, "more", None) or ()
+    if more and args.rung != "population":
+        raise UsageError(f"several files ({1 + len(more)}) are for --model population (the "
+                         f"measurements of one part, each a region); --model {args.rung} "
+                         f"fits one FILE")
+    if more and (args.part is not None or args.spurious):
+        raise UsageError(f"--model population of several files fits each file whole: leave "
+                         f"out {'--part' if args.part is not None else '--spurious'}")
+    if anchors is not None and more:
+        raise UsageError("--anchors sets the tiles of one map; with several files each file is "
+                         "one region: leave out --anchors")
     if getattr(args, "feed", None) is not None and args.rung != "periodic":
         raise UsageError(f"--feed applies to --model periodic only (got --model {args.rung})")
-    if getattr(args, "rung", None) in ("field", "periodic"):
+    if getattr(args, "rung", None) in ("field", "population", "periodic"):
         marginal = _marginal_choice(args)
         if marginal != "gaussian" or args.nu != 0.5:
             raise UsageError(f"--model {args.rung} draws Gaussian heights with eq 18's profile: "
@@ -267,7 +304,7 @@ def _check_fit_device(args) -> None:
                              f"{args.nu:g}")
     if device is None:
         return
-    if args.rung in ("field", "periodic") or (args.rung == "eq18"
+    if args.rung in ("field", "population", "periodic") or (args.rung == "eq18"
                                              and args.likelihood == "whittle"):
         check_device(device)
         return
@@ -367,36 +404,6 @@ def _fit_rungs(args, heights, operators, data, z):
     return model
 
 
-def _fit_field(args, heights, operators, data, z):
-    """``fit ground --model field``: eq 18 per tile, pooled (roughgp.surface_models.field_model)."""
-    from roughgp.inference.tile_fit import PARAMETERS
-    from roughgp.surface_models.field_model import fit_field_model
-    tiles = tuple(args.anchors or (4, 4))
-    try:
-        fitted = fit_field_model(z, heights.spacing, **operators, tiles=tiles, seed=args.seed,
-                                 data=data, device=args.device)
-    except ValueError as exc:
-        raise UsageError(f"{args.file}: {exc}") from None
-    model = fitted.model
-    print(f"fitted to {args.file}: {model.describe()}")
-    print_wrapped(f"operators: {'; '.join(model.operators)} (the model describes the heights "
-                  f"after the F-operator; the filters are applied to its simulations)")
-    print(f"  {'parameter':<13} {'population':>11} {'spread tau':>11} {'p same':>8} "
-          f"{'p gradient':>11}  kept")
-    for name in PARAMETERS:
-        p = fitted.pooled_of(name)
-        kept = ("the tiles' median" if name == "log noise" else
-                "a gradient" if p.slope != (0.0, 0.0) else
-                "tile values" if p.tau > 0 else "one value")
-        trend = "-" if math.isnan(p.p_trend) else f"{p.p_trend:.3g}"
-        print(f"  {name:<13} {p.mean:>11.4g} {p.tau:>11.3g} {p.p_homogeneity:>8.3g} "
-              f"{trend:>11}  {kept}")
-    print_wrapped("(log scale but for the angle, in radians; p same: the test that all tiles "
-                  "share one value; p gradient: that a plane in position does better, kept "
-                  "below 0.01)")
-    return model
-
-
 def _print_mixture(model):
     """The 2-D spectral mixture's components, one line each, and the BIC of each Q tried."""
     hp = model.hyperparameters
@@ -428,7 +435,10 @@ def _fit_ground(args, heights, operators, data):
         f"{missing.sum()} missing ({missing.mean():.1%}); fitting "
         + ("eq 18 plus noise ..." if args.rung == "eq18" else f"--model {args.rung} ..."))
     if args.rung == "field":
-        return _fit_field(args, heights, operators, data, z), found
+        return fit_field_command(args, heights, operators, data, z), found
+    if args.rung == "population":
+        return fit_population_command(args, [z], heights.spacing, operators, data,
+                                      [args.file]), found
     if args.rung == "periodic":
         model = fit_periodic_command(args, heights, operators, data, z)
         if model is not None:

@@ -47,7 +47,8 @@ from roughgp.experiments.model_check import synthetic_holes
 from roughgp.surface_models.fit import fit_surface_model
 from roughgp.surface_models.model import FittedModel
 
-__all__ = ["KINDS", "VARIANTS", "SHAPE", "TILES", "synthetic_map", "held_out_case",
+__all__ = ["KINDS", "VARIANTS", "SHAPE", "TILES", "VARIANCE_SPREAD", "LENGTH_SPREAD",
+           "eq18_model", "synthetic_map", "held_out_case",
            "outside_shares", "shares_table"]
 
 KINDS = ("stationary", "holes", "hierarchical", "gradient")
@@ -56,14 +57,15 @@ VARIANTS = ("in-sample", "held-out", "held-out-true", "predictive", "predictive-
 SHAPE = (64, 128)
 TILES = (2, 4)
 _BLOCK, _N_BLOCKS = 16, 10
-_VARIANCE_SPREAD, _LENGTH_SPREAD = 0.4, 0.25  # the hierarchical population's log spreads
+VARIANCE_SPREAD, LENGTH_SPREAD = 0.4, 0.25  # the hierarchical population's log spreads
 _GRADIENT = 3.0  # the gradient kind's variance ratio, right edge to left
 #: the recorded run (``benchmarks/held_out_calibration.py``: one :func:`held_out_case` a line)
 RECORDED = Path(__file__).resolve().parents[2] / "benchmarks" / "results" / \
     "held_out_calibration.jsonl"
 
 
-def _model(variance, lam_a, lam_b, angle, noise) -> FittedModel:
+def eq18_model(variance, lam_a, lam_b, angle, noise) -> FittedModel:
+    """Eq 18 of these hyperparameters (um, um^2, deg) on a 1 um grid, a plane its form."""
     return FittedModel("eq18", {"variance_um2": variance, "lambda_a_um": lam_a,
                                 "lambda_b_um": lam_b, "angle_deg": angle,
                                 "noise_variance_um2": noise}, (1.0, 1.0),
@@ -80,15 +82,15 @@ def synthetic_map(kind, index, *, shape=SHAPE, seed=0):
     variance, lam_a, lam_b, angle, noise = CASES[index % len(CASES)]
     ny, nx = shape
     half = nx // 2
-    truth = _model(variance, lam_a, lam_b, angle, noise)
+    truth = eq18_model(variance, lam_a, lam_b, angle, noise)
     left = right = truth
     if kind == "hierarchical":
         halves = []
         for _ in range(2):
             g = rng.standard_normal(3)
-            halves.append(_model(variance * np.exp(_VARIANCE_SPREAD * g[0]),
-                                 lam_a * np.exp(_LENGTH_SPREAD * g[1]),
-                                 lam_b * np.exp(_LENGTH_SPREAD * g[2]), angle, noise))
+            halves.append(eq18_model(variance * np.exp(VARIANCE_SPREAD * g[0]),
+                                     lam_a * np.exp(LENGTH_SPREAD * g[1]),
+                                     lam_b * np.exp(LENGTH_SPREAD * g[2]), angle, noise))
         left, right = halves
         z = np.concatenate([left.simulate(shape, seed=rng)[:, :half],
                             right.simulate(shape, seed=rng)[:, half:]], axis=1)

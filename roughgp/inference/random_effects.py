@@ -115,7 +115,8 @@ def pool(estimates, variances, *, angle=False, positions=None, trend_level=0.01,
         spread_level: the level of the test of a spread about the population (or the
             trend), in (0, 1): tau is set to 0, and every region shrunk to the population, unless
             Cochran's Q rejects one value at this level (the moment estimate alone is above 0
-            in about half of the sets of regions that share one value).
+            in about half of the sets of regions that share one value); None: no test, tau
+            the moment estimate itself (a prediction for a new region wants it).
 
     Raises ValueError when fewer than two regions have an estimate.
     """
@@ -125,6 +126,8 @@ def pool(estimates, variances, *, angle=False, positions=None, trend_level=0.01,
         raise ValueError(f"estimates and variances must have one shape, got {theta.shape} "
                          f"and {v.shape}")
     for name, level in (("trend_level", trend_level), ("spread_level", spread_level)):
+        if level is None and name == "spread_level":
+            continue
         if not 0 < level < 1:
             raise ValueError(f"{name} must be in (0, 1), got {level!r}")
     known = np.isfinite(theta) & np.isfinite(v) & (v > 0)

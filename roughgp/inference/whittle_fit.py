@@ -312,9 +312,12 @@ def robust_covariance(fit: WhittleFit, valid, spacing=1.0, *, n_draws=40, seed=0
         n_draws: an integer >= 10; seed: of the draws; device: as :func:`fit_whittle`.
 
     Returns:
-        5 x 5, the order of ``fit.u``; NaN where the information is not positive definite.
+        5 x 5, the order of ``fit.u``; NaN where the information is not positive definite,
+        or where the fit cannot be drawn on the map's grid (lengths so far beyond the map
+        that no circulant embedding holds them: the map does not determine them).
     """
     from roughgp.models.surfaces import ground
+    from roughgp.sampling.truncation import NotEmbeddableError
     from roughgp.common.checks import as_generator, check_integer
     n = check_integer("n_draws", n_draws, 10)
     valid = boolean_map(valid, np.shape(valid))
@@ -328,9 +331,12 @@ def robust_covariance(fit: WhittleFit, valid, spacing=1.0, *, n_draws=40, seed=0
     g = fit.groove
     scores = []
     for _ in range(n):
-        z = ground(valid.shape, variance=g.variance, lengthscales=g.lengthscales,
-                   angle=g.angle, noise_variance=fit.noise_variance, spacing=spacing, seed=rng,
-                   method="circulant")
+        try:
+            z = ground(valid.shape, variance=g.variance, lengthscales=g.lengthscales,
+                       angle=g.angle, noise_variance=fit.noise_variance, spacing=spacing,
+                       seed=rng, method="circulant")
+        except NotEmbeddableError:
+            return np.full((len(_NAMES), len(_NAMES)), np.nan)
         scores.append(likelihood.with_heights(z).value_and_gradient(u)[1])
     score_covariance = np.cov(np.asarray(scores), rowvar=False)
     return inverse @ score_covariance @ inverse

@@ -30,6 +30,7 @@ HEIGHT_LIMIT_UM = BOUNDS["height"]
 #: the field of each equation that sets its heights' scale
 _SCALE_FIELD = {"eq18": "variance_um2", "eq18-matern": "variance_um2", "sm2d": "weights_um2",
                 "eq21": "weights_um2", "measured-psd": "psd_um4", "eq18-field": "variance_um2",
+                "eq18-population": "variance_um2, log_variance_sd",
                 "periodic-mark": "mark_um, depth_sd_um, lay_sd_um, variance_um2",
                 "periodic-mark-profile": "mark_um, depth_sd_um, variance_um2"}
 
@@ -40,6 +41,9 @@ def extreme_height(model) -> tuple[float, str]:
     mean = abs(float(model.hyperparameters.get("mean_um", 0.0)))
     if model.equation == "eq18-field":  # the roughest anchor, not the mean over them
         latent = max(max(row) for row in model.hyperparameters["variance_um2"])
+    elif model.equation == "eq18-population":  # a region EXTREME_SCORE spreads rougher
+        hp = model.hyperparameters
+        latent = hp["variance_um2"] * math.exp(EXTREME_SCORE * hp["log_variance_sd"])
     elif model.equation in ("periodic-mark", "periodic-mark-profile"):
         hp = model.hyperparameters         # the mark's highest point, then the random parts
         mean += float(np.max(np.abs(hp["mark_um"])))

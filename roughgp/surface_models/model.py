@@ -95,7 +95,8 @@ class FittedModel:
 
     Attributes:
         equation: ``"eq18"``, ``"eq18-matern"``, ``"eq21"``, ``"measured-psd"``, ``"sm2d"``,
-            ``"eq18-field"`` (:mod:`roughgp.surface_models.field_model`) or
+            ``"eq18-field"`` (:mod:`roughgp.surface_models.field_model`),
+            ``"eq18-population"`` (:mod:`roughgp.surface_models.population_model`) or
             ``"periodic-mark"`` / ``"periodic-mark-profile"``
             (:mod:`roughgp.surface_models.periodic_model`).
         hyperparameters: the names of :data:`EQUATIONS` (units in the names: um, um^2, deg,
@@ -148,6 +149,11 @@ class FittedModel:
             raise ValueError("the eq18-field model has no single kernel (its parameters vary "
                              "over the map): fill, the calibrated check and the predictive "
                              "draws need a stationary model (fit one with --model eq18)")
+        if self.equation == "eq18-population":
+            raise ValueError("the eq18-population model has no single kernel (each surface "
+                             "draws its own region's parameters): fill, the calibrated check "
+                             "and the predictive draws need a stationary model (fit one with "
+                             "--model eq18)")
         if self.equation in ("periodic-mark", "periodic-mark-profile"):
             raise ValueError(f"the {self.equation} model has no single kernel (a deterministic "
                              "feed mark plus Gaussian processes): the calibrated check and the "
@@ -187,6 +193,8 @@ class FittedModel:
             return band_variance(self)
         if self.equation == "eq18-field":  # the mean over the anchors
             return float(np.mean(hp["variance_um2"]))
+        if self.equation == "eq18-population":  # the mean over the regions (log-normal)
+            return float(hp["variance_um2"] * math.exp(hp["log_variance_sd"] ** 2 / 2))
         if self.equation in ("periodic-mark", "periodic-mark-profile"):  # mark, depths, rest
             return float(np.var(hp["mark_um"]) + hp["depth_sd_um"] ** 2
                          + hp.get("lay_sd_um", 0.0) ** 2 + hp["variance_um2"])
@@ -219,6 +227,13 @@ class FittedModel:
                                                         ("lambda_b", "lambda_b_um", " um"),
                                                         ("angle", "angle_deg", " deg")))
             text = f"eq 18 with parameter fields on {rows} x {cols} anchors: {ranges}"
+        elif self.equation == "eq18-population":
+            text = (f"eq 18 over a population of {hp['regions']} regions: variance "
+                    f"{hp['variance_um2']:.4g} um^2 (x/ {math.exp(hp['log_variance_sd']):.3g} "
+                    f"between regions), lambda_a {hp['lambda_a_um']:.4g} um (x/ "
+                    f"{math.exp(hp['log_lambda_a_sd']):.3g}), lambda_b {hp['lambda_b_um']:.4g} "
+                    f"um (x/ {math.exp(hp['log_lambda_b_sd']):.3g}), angle "
+                    f"{hp['angle_deg']:.1f} +- {hp['angle_sd_deg']:.1f} deg")
         elif self.equation == "periodic-mark":
             from roughgp.surface_models.periodic_draw import mark_of
             text = (f"periodic mark: feed {hp['feed_um']:.5g} um along "
@@ -283,6 +298,10 @@ class FittedModel:
         if self.equation == "eq18-field":
             from roughgp.surface_models.field_draw import draw_field_model
             return self._returned(draw_field_model(self, shape, spacing, rng, count), n_samples)
+        if self.equation == "eq18-population":
+            from roughgp.surface_models.population_draw import draw_population_model
+            return self._returned(draw_population_model(self, shape, spacing, rng, count),
+                                  n_samples)
         if self.equation == "periodic-mark-profile":
             from roughgp.surface_models.periodic_draw import draw_periodic_profile
             return self._returned(draw_periodic_profile(self, shape[0], spacing[0], rng, count),

@@ -43,6 +43,11 @@ EQUATIONS = {
     # between them (roughgp.surface_models.field_model)
     "eq18-field": ("surface", ("anchors_x_um", "anchors_y_um", "variance_um2", "lambda_a_um",
                                "lambda_b_um", "angle_deg", "noise_variance_um2")),
+    # eq 18 over a population of regions: the typical region's parameters and the spread of a
+    # new region about them (roughgp.surface_models.population_model)
+    "eq18-population": ("surface", ("variance_um2", "lambda_a_um", "lambda_b_um", "angle_deg",
+                                    "noise_variance_um2", "log_variance_sd", "log_lambda_a_sd",
+                                    "log_lambda_b_sd", "angle_sd_deg", "regions")),
     # a periodic machined surface: a deterministic feed mark, each mark's shift and depth as
     # Gaussian processes over the marks (and along the lay), eq 18 on top
     # (roughgp.surface_models.periodic_model)
@@ -127,7 +132,11 @@ RANGES = {
     "depth_rho": (0.0, 0.99, True),
     "lay_sd_um": (0.0, 1e9, True),
     "depth_length_um": (0.0, 1e9, False),
+    "log_variance_sd": (0.0, 3.0, True), "log_lambda_a_sd": (0.0, 3.0, True),  # 3: x/ 20
+    "log_lambda_b_sd": (0.0, 3.0, True), "angle_sd_deg": (0.0, 180.0, True),
 }
+#: the population model's fewest and most regions
+POPULATION_REGIONS = (2, 100000)
 _TOP = {"format", "version", "equation", "kind", "stage", "description", "hyperparameters",
         "spacing_um", "marginal", "operators", "cutoffs", "data", "fit", "roughgp_version"}
 _REQUIRED = ("format", "version", "equation", "hyperparameters", "spacing_um")
@@ -210,14 +219,23 @@ def check_fields(equation, hyperparameters, spacing, marginal, cutoffs, stage, o
         _check_sm2d(hp, spacing)
     elif equation == "eq18-field":
         _check_field(hp, spacing)
-        if marginal is not None:
-            raise ModelFileError("the eq18-field model draws Gaussian heights: its marginal "
-                                 "must be null")
+    elif equation == "eq18-population":
+        for name in ("log_variance_sd", "log_lambda_a_sd", "log_lambda_b_sd", "angle_sd_deg"):
+            number(name, hp[name])
+        regions = hp["regions"]
+        if not (_is_number(regions) and float(regions).is_integer()
+                and POPULATION_REGIONS[0] <= regions <= POPULATION_REGIONS[1]):
+            raise ModelFileError(f"regions must be an integer in [{POPULATION_REGIONS[0]}, "
+                                 f"{POPULATION_REGIONS[1]}] (the regions pooled), got "
+                                 f"{regions!r}")
     elif equation in ("periodic-mark", "periodic-mark-profile"):
         _check_periodic(hp, spacing)
         if marginal is not None:
             raise ModelFileError(f"the {equation} model draws its roughness with Gaussian "
                                  f"heights: its marginal must be null")
+    if equation in ("eq18-field", "eq18-population") and marginal is not None:
+        raise ModelFileError(f"the {equation} model draws Gaussian heights: its marginal must "
+                             f"be null")
     if kind == "surface" and equation not in ("measured-psd", "sm2d", "eq18-field"):
         for name in ("variance_um2", "lambda_a_um", "lambda_b_um", "angle_deg"):
             number(name, hp[name])

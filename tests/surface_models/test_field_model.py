@@ -131,7 +131,7 @@ def test_the_commands_fit_check_and_refuse(capsys, tmp_path, gradient_fit):
 
 
 @pytest.mark.parametrize("extra, words", [
-    (("--anchors", 2, 2), "--anchors applies to --model field only"),
+    (("--anchors", 2, 2), "--anchors applies to --model field and population only"),
     (("--model", "field", "--anchors", 0, 2), "--anchors must be two integers in [1, 32]"),
     (("--model", "field", "--marginal", "iaaft"), "--model field draws Gaussian heights"),
     (("--model", "field", "--anchors", 9, 2), "tiles must be (m, n)"),
