@@ -5,7 +5,10 @@ with ``--seed`` set to the file's seed (:func:`roughgp.batch.records.file_seed`)
 * ``texture``: :func:`roughgp.texture` after the reader (``roughgp texture``);
 * ``fit``: :func:`~roughgp.surface_models.fit.fit_surface_model` (eq 18, ``--model eq18``),
   :func:`~roughgp.surface_models.ladder.fit_rung` (``matern``, ``sm``, ``psd``),
-  :func:`~roughgp.surface_models.ladder.choose_model` (``auto``), on the whole map or on the
+  :func:`~roughgp.surface_models.ladder.choose_model` (``auto``), the field and population
+  models of :mod:`~roughgp.surface_models.field_model` and
+  :mod:`~roughgp.surface_models.population_model` (``field``, ``population``: the map's
+  ``anchors`` tiles), on the whole map or on the
   half ``part`` (``roughgp fit ground --part``), or for a profile
   :func:`~roughgp.surface_models.fit.fit_profile_model` on its mean profile (``roughgp fit``);
   the model file is written to the file's folder;
@@ -175,7 +178,21 @@ def _fit(path, heights, options, seed, folder):
     rung, marginal = options.get("model", "eq18"), options.get("marginal") or "gaussian"
     nu, likelihood = options.get("nu", 0.5), options.get("likelihood", "blocks")
     entry = {"rung": rung}
-    if rung == "eq18":
+    if rung in ("field", "population"):   # fit ground --model field|population --anchors M N
+        if marginal != "gaussian" or nu != 0.5:
+            raise ValueError(f"--model {rung} draws Gaussian heights with eq 18's profile: "
+                             f"leave out --marginal {marginal} and --nu {nu:g}")
+        tiles = tuple(options.get("anchors") or ((4, 4) if rung == "field" else (2, 2)))
+        if rung == "field":
+            from roughgp.surface_models.field_model import fit_field_model
+            model = fit_field_model(z, heights.spacing, **operators, tiles=tiles, seed=seed,
+                                    data=data).model
+        else:
+            from roughgp.surface_models.population_model import fit_population_model
+            model = fit_population_model(z, heights.spacing, **operators, tiles=tiles,
+                                         seed=seed, data=data).model
+        notes = ()
+    elif rung == "eq18":
         result = fit_surface_model(z, heights.spacing, **operators, block=block,
                                    n_blocks=n_blocks, seed=seed, nu=nu, marginal=marginal,
                                    data=data, likelihood=likelihood)

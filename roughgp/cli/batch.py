@@ -12,6 +12,7 @@ from pathlib import Path
 from roughgp.cli.bounds import bounds_text, integer
 from roughgp.cli.options import Given, cutoff
 from roughgp.cli.output import UsageError, err
+from roughgp.surface_models.schema import MAX_ANCHORS
 
 __all__ = ["add_parser", "run", "steps_option", "exit_code", "FAILED_BASE"]
 
@@ -141,9 +142,15 @@ def add_parser(sub, formatter) -> None:
     o.add_argument("--unfiltered", action="store_true",
                    help="texture: no operator (the heights as read)")
     f = b.add_argument_group("fit (as roughgp fit ground / profile)")
-    f.add_argument("--model", dest="rung", choices=("eq18", "matern", "sm", "psd", "auto"),
+    f.add_argument("--model", dest="rung",
+                   choices=("eq18", "matern", "sm", "psd", "field", "population", "auto"),
                    default="eq18", help="the rung of a surface's model (default eq18; auto: "
-                   "chosen by held-out kriging); profiles get eq 21")
+                   "chosen by held-out kriging; field and population: eq 18 over the map's "
+                   "--anchors tiles); profiles get eq 21")
+    f.add_argument("--anchors", type=integer("--anchors"), nargs=2, default=None,
+                   metavar=("M", "N"),
+                   help=f"--model field or population: the M x N tiles of each map, M and N "
+                        f"in [1, {MAX_ANCHORS}] (default 4 4 for field, 2 2 for population)")
     f.add_argument("--marginal", choices=("gaussian", "johnson", "iaaft"), default=None,
                    help="the heights' distribution (default gaussian)")
     f.add_argument("--nu", type=float, choices=(0.5, 1.5, 2.5), default=0.5,
@@ -206,7 +213,8 @@ def plan_of(args):
                        "nu": args.nu, "likelihood": args.likelihood, "block": args.block,
                        "blocks": args.blocks, "mixtures": args.mixtures,
                        "candidates": args.candidates,
-                       **({"part": args.part} if args.part else {})},
+                       **({"part": args.part} if args.part else {}),
+                       **({"anchors": list(args.anchors)} if args.anchors else {})},
                "check": {"simulations": args.simulations, "plot": args.plots},
                "fill": {"form": args.form, "degree": args.degree, "axis": args.axis,
                         "method": args.fill_method,
@@ -247,6 +255,13 @@ def run(args) -> int:
     if args.scheduler is not None and args.workers is not None:
         raise UsageError("--workers sizes the local cluster; --scheduler uses an existing one: "
                          "give one of them")
+    if args.anchors is not None:
+        if args.rung not in ("field", "population"):
+            raise UsageError(f"--anchors applies to --model field and population only (got "
+                             f"--model {args.rung})")
+        if not all(1 <= a <= MAX_ANCHORS for a in args.anchors):
+            raise UsageError(f"--anchors must be two integers in [1, {MAX_ANCHORS}], got "
+                             f"{args.anchors[0]} {args.anchors[1]}")
     plan = plan_of(args)
     out = Path(args.out)
     files = expand_inputs(args.files, exclude=out if out.is_dir() else None)

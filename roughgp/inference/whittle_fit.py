@@ -59,12 +59,15 @@ from roughgp.common.checks import boolean_map
 from roughgp.common.grid import normalize
 from roughgp.models.surfaces import GrooveParameters
 
-__all__ = ["EXCLUDED_LOWEST", "MIN_POINTS", "WhittleFit", "WhittleLikelihood",
+__all__ = ["EXCLUDED_LOWEST", "MIN_POINTS", "FAR_BEYOND", "WhittleFit", "WhittleLikelihood",
            "fit_whittle", "robust_covariance"]
 
 #: frequencies excluded around zero: ``|k_y| <= 1`` and ``|k_x| <= 1`` (the mean, the plane)
 EXCLUDED_LOWEST = 1
 MIN_POINTS = 16  #: the fewest rows and columns of a map this fit takes
+#: a length beyond this many times the map's longer side is "far beyond the map": the map does
+#: not identify it (roughgp.surface_models.in_range caps it; robust_covariance gives NaN)
+FAR_BEYOND = 4.0
 _NAMES = ("variance", "lambda_a", "lambda_b", "angle", "noise_variance")
 _ANGLE = 3
 # float64 arrays of the (2 ny) x (2 nx) lag grid held at once per likelihood evaluation (lags,
@@ -313,8 +316,9 @@ def robust_covariance(fit: WhittleFit, valid, spacing=1.0, *, n_draws=40, seed=0
 
     Returns:
         5 x 5, the order of ``fit.u``; NaN where the information is not positive definite,
-        or where the fit cannot be drawn on the map's grid (lengths so far beyond the map
-        that no circulant embedding holds them: the map does not determine them).
+        where a fitted length lies more than :data:`FAR_BEYOND` times beyond the map's longer
+        side (the map does not determine it, and drawing it means searching a huge torus:
+        minutes), or where the fit cannot be drawn on the map's grid at all.
     """
     from roughgp.models.surfaces import ground
     from roughgp.sampling.truncation import NotEmbeddableError
@@ -329,6 +333,8 @@ def robust_covariance(fit: WhittleFit, valid, spacing=1.0, *, n_draws=40, seed=0
     u = np.asarray(fit.u, dtype=np.float64)
     rng = as_generator(seed)
     g = fit.groove
+    if max(g.lengthscales) > FAR_BEYOND * max(n * d for n, d in zip(valid.shape, spacing)):
+        return np.full((len(_NAMES), len(_NAMES)), np.nan)
     scores = []
     for _ in range(n):
         try:

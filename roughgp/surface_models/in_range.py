@@ -26,12 +26,11 @@ from __future__ import annotations
 
 import dataclasses
 
+from roughgp.inference.whittle_fit import FAR_BEYOND
 from roughgp.surface_models.model import FittedModel
 
 __all__ = ["FAR_BEYOND", "range_findings", "keep_in_range"]
 
-#: a length beyond this many times the field's longer side is "far beyond the field"
-FAR_BEYOND = 4.0
 #: the block fit's upper bound on the lengths, in blocks (roughgp.inference.block_fit)
 _BOUND_BLOCKS = 50.0
 

@@ -279,3 +279,34 @@ def test_the_halves_are_the_checks():
     from roughgp.checking.held_out import HALVES
     from roughgp.cli.batch import _HALVES
     assert _HALVES == HALVES
+
+
+@pytest.mark.parametrize("rung", ["field", "population"])
+def test_field_and_population_give_the_single_command_s_model(tmp_path, capsys, rung):
+    """A 64 x 64 eq 18 map (lengths 8 and 3): its 2 x 2 tiles each hold their lengths."""
+    from roughgp.experiments.held_out import synthetic_map
+    z, _, _ = synthetic_map("stationary", 0, shape=(64, 64))
+    path = tmp_path / "in" / "map.npy"
+    path.parent.mkdir()
+    np.save(path, z)
+    out = tmp_path / "out"
+    options = ("--model", rung, "--anchors", "2", "2", "--block", "12", "--l-filter", "none")
+    code, _, err = run(capsys, "batch", path.parent, "--out", out, "--workers", "1",
+                       "--steps", "fit", *options)
+    assert code == 0, err
+    (record,) = _records(out).values()
+    model = tmp_path / "model.json"
+    code, _, err = run(capsys, "fit", "ground", path, *options, "--seed", record["seed"],
+                       "--out", model)
+    assert code == 0, err
+    single = json.loads(model.read_text())
+    assert single["equation"] == record["fit"]["equation"] == f"eq18-{rung}"
+    assert single["hyperparameters"] == record["fit"]["hyperparameters"]
+
+
+def test_anchors_only_with_field_or_population(tmp_path, capsys):
+    code, _, err = run(capsys, "batch", tmp_path, "--out", tmp_path / "o", "--anchors", "2", "2")
+    assert code == 2 and "--anchors applies to --model field and population only" in err
+    code, _, err = run(capsys, "batch", tmp_path, "--out", tmp_path / "o", "--model", "field",
+                       "--anchors", "0", "2")
+    assert code == 2 and "--anchors must be two integers in [1, 32]" in err
