@@ -19,28 +19,23 @@ import argparse
 import datetime
 from pathlib import Path
 
-from roughgp.batch.engine import add_cluster_options, appending_records, run_cases
+from roughgp.batch.engine import (
+    add_cluster_options,
+    appending_records,
+    on_one_thread,
+    run_cases,
+)
 from roughgp.common.atomic import atomic_output
 from roughgp.experiments.hole_coverage import (
     CROP,
     HOLE_CLASSES,
     RECORDED,
     TARGET,
+    coverage_case,
     coverage_table,
     load_records,
 )
 from roughgp.experiments.real_maps import REAL_MAPS
-
-
-def _run_case(name, seed):
-    import warnings
-
-    from threadpoolctl import threadpool_limits
-
-    from roughgp.experiments.hole_coverage import coverage_case
-    with threadpool_limits(1), warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        return coverage_case(name, seed)
 
 
 def report(records) -> str:
@@ -104,7 +99,8 @@ def main(argv=None) -> int:
     record = appending_records(args.out, lambda r: ", ".join(
         f"{c['inside'] / max(c['points'], 1):.2f}" for c in r["classes"])
         + f" ({r['seconds']:.0f} s)", len(todo))
-    run_cases(_run_case, [(f"{name} {seed}", (name, seed), f"holes-{name}-{seed}")
+    run_cases(on_one_thread, [(f"{name} {seed}", (coverage_case, name, seed),
+                               f"holes-{name}-{seed}")
                           for name, seed in todo],
               workers=args.workers, scheduler=args.scheduler, on_result=record)
     return 0

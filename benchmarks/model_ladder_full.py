@@ -2,22 +2,23 @@
 every map of ``data/``, each cropped to its central ``--size`` points (default 256, the full
 size), 19 simulations per check, seed 0.
 
-Each result is appended to ``benchmarks/results/model_ladder_full_<size>.jsonl`` as it comes
-(a long run keeps what it did; a later run of other rungs adds to it), and the Markdown table
+Each (map, rung) is one case (``model_ladder.ladder_case``) on the project's engine
+(:func:`roughgp.batch.engine.run_cases`: a local Dask cluster of ``--workers`` processes, one
+BLAS thread each, or ``--scheduler ADDRESS``); its record is appended to
+``benchmarks/results/model_ladder_full_<size>.jsonl`` as it ends, so a long run keeps what it
+did and a rerun runs only the cases not recorded. The Markdown table
 ``benchmarks/results/model_ladder_full_<size>.md`` (date, command, seconds, the table files x
 rungs, the best rung per file and the share reproduced) is written from all its records. Not a
 test: run it by hand. On the 2-core machine shared with other jobs, 256 x 256 took about 9
 minutes per map for the four eq 18 rungs; 128 x 128 about 2.
 
-    OMP_NUM_THREADS=1 python benchmarks/model_ladder_full.py [--size 128] [--rungs eq18 ...]
+    python benchmarks/model_ladder_full.py --size 128 --workers 2 [--rungs eq18 ...]
     python benchmarks/model_ladder_full.py --size 128 --report   # the table from the records
 
-A rung run again (e.g. after a change of the check) goes to a part file, ``--out PART``, and
-``--merge PART ...`` puts its records in place of the recorded ones of the same file and rung:
+A rung run again (e.g. after a change of the check): ``--rerun`` drops the recorded cases of
+the rungs and files given and runs them again, in place:
 
-    OMP_NUM_THREADS=1 python benchmarks/model_ladder_full.py --size 128 --rungs sm-iaaft \
-        --out /tmp/sm.jsonl
-    python benchmarks/model_ladder_full.py --size 128 --merge /tmp/sm.jsonl
+    python benchmarks/model_ladder_full.py --size 128 --rungs sm-iaaft --rerun
 """
 
 from __future__ import annotations
@@ -30,7 +31,14 @@ import sys
 import time
 from pathlib import Path
 
+from roughgp.batch.engine import (
+    add_cluster_options,
+    appending_records,
+    on_one_thread,
+    run_cases,
+)
 from roughgp.common.atomic import atomic_output
+from roughgp.common.jsonl import read_records
 from roughgp.experiments import model_ladder as ml
 from roughgp.experiments.real_maps import REAL_MAPS
 
@@ -65,27 +73,13 @@ def write_report(command, seconds, size) -> None:
     print(report.read_text())
 
 
-def merge(parts, size) -> None:
-    """Put the records of ``parts`` in place of the recorded ones of the same file and rung."""
-    path = _paths(size)[0]
-    records = [json.loads(line) for line in path.read_text().splitlines() if line]
-    where = {(r["file"], r["rung"]): i for i, r in enumerate(records)}
-    replaced = 0
-    for part in parts:
-        for line in Path(part).read_text().splitlines():
-            if not line:
-                continue
-            r = json.loads(line)
-            key = (r["file"], r["rung"])
-            if key in where:
-                records[where[key]] = r
-                replaced += 1
-            else:
-                where[key] = len(records)
-                records.append(r)
-    with atomic_output(path) as partial:
-        partial.write_text("".join(json.dumps(r) + "\n" for r in records))
-    print(f"{replaced} records replaced, {len(records)} in {path}")
+def recorded_records(size) -> list:
+    """The recorded records of ``size`` (none where there is no file)."""
+    return read_records(_paths(size)[0])
+
+
+def _case_record(name, rung, size) -> dict:
+    return ml.ladder_case(name, rung, size).to_record()
 
 
 def main(argv=None) -> None:
@@ -95,29 +89,37 @@ def main(argv=None) -> None:
     parser.add_argument("--size", type=int, default=ml.crop_size(full=True),
                         help="the side of each map's central crop, points")
     parser.add_argument("--report", action="store_true", help="only write the report")
-    parser.add_argument("--out", help="a part file to append to instead of the records")
-    parser.add_argument("--merge", nargs="+", metavar="PART",
-                        help="put these part files' records in place of the recorded ones")
+    parser.add_argument("--rerun", action="store_true",
+                        help="drop the recorded cases of these rungs and files and run them again")
+    add_cluster_options(parser)
     args = parser.parse_args(argv)
     command = "python benchmarks/model_ladder_full.py " + " ".join(sys.argv[1:])
     if args.report:
         write_report(command, float("nan"), args.size)
         return
-    if args.merge:
-        merge(args.merge, args.size)
-        return
-    RESULTS.mkdir(exist_ok=True)
+    path = _paths(args.size)[0]
+    wanted = {(f, g) for f in args.files for g in args.rungs}
+    records = recorded_records(args.size)
+    if args.rerun:
+        kept = [r for r in records if (r["file"], r["rung"]) not in wanted]
+        with atomic_output(path) as partial:
+            partial.write_text("".join(json.dumps(r) + "\n" for r in kept))
+        print(f"{len(records) - len(kept)} recorded cases dropped to be run again")
+        records = kept
+    done = {(r["file"], r["rung"]) for r in records}
+    cases = [((f, g), (_case_record, f, g, args.size), f"ladder-{f}-{g}")
+             for f in args.files for g in args.rungs if (f, g) not in done]
+    print(f"{len(cases)} cases to run ({len(wanted) - len(cases)} recorded)", flush=True)
     start = time.perf_counter()
 
-    def keep(result):
-        with (Path(args.out) if args.out else _paths(args.size)[0]).open("a") as out:
-            out.write(json.dumps(result.to_record()) + "\n")
-        print(f"{result.file} {result.rung}: {result.n_outside} outside "
-              f"{result.outside}, {result.fit_seconds:.0f} s fit", flush=True)
+    def describe(record):
+        outside = record.get("outside")
+        return (f"{len(outside)} outside {outside}" if outside is not None else
+                f"no check: {record.get('description')}") + f", {record['fit_seconds']:.0f} s fit"
 
-    ml.model_ladder(args.files, args.rungs, size=args.size, progress=keep)
-    if not args.out:
-        write_report(command, time.perf_counter() - start, args.size)
+    run_cases(on_one_thread, cases, workers=args.workers, scheduler=args.scheduler,
+              on_result=appending_records(path, describe, len(cases)))
+    write_report(command, time.perf_counter() - start, args.size)
 
 
 if __name__ == "__main__":

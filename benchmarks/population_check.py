@@ -20,7 +20,12 @@ import argparse
 import datetime
 from pathlib import Path
 
-from roughgp.batch.engine import add_cluster_options, appending_records, run_cases
+from roughgp.batch.engine import (
+    add_cluster_options,
+    appending_records,
+    on_one_thread,
+    run_cases,
+)
 from roughgp.common.atomic import atomic_output
 from roughgp.experiments.population_check import (
     KINDS,
@@ -28,19 +33,9 @@ from roughgp.experiments.population_check import (
     RECORDED,
     REGIONS,
     load_records,
+    population_case,
     shares_markdown,
 )
-
-
-def _run_case(kind, index):
-    import warnings
-
-    from threadpoolctl import threadpool_limits
-
-    from roughgp.experiments.population_check import population_case
-    with threadpool_limits(1), warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        return population_case(kind, index)
 
 
 def report(records) -> str:
@@ -75,8 +70,8 @@ def main(argv=None) -> int:
     print(f"{len(todo)} case(s) to run, {len(done)} recorded", flush=True)
     record = appending_records(args.out, lambda r: "; ".join(
         f"{m} {len(r['outside'][m])}" for m in MODELS) + f" ({r['seconds']:.0f} s)", len(todo))
-    run_cases(_run_case, [(f"{kind} {index}", (kind, index), f"population-{kind}-{index}")
-                          for kind, index in todo],
+    run_cases(on_one_thread, [(f"{kind} {index}", (population_case, kind, index),
+                               f"population-{kind}-{index}") for kind, index in todo],
               workers=args.workers, scheduler=args.scheduler, on_result=record)
     return 0
 

@@ -7,20 +7,34 @@ reads it, :func:`~roughgp.experiments.spurious_points.recorded_studies`), and th
 table ``benchmarks/results/spurious_points_full.md`` (date, command, seconds; per file: the
 RMSE of the GP and of linear interpolation on the unflagged held-out points, the band's
 coverage, the self-check's and the cross-validation's verdicts with their evidence, the share
-flagged and the detector's rounds). Not a test: run it by hand, about 10-15 minutes on the
-2-core machine shared with other jobs.
+flagged and the detector's rounds). Each file is one case on the project's engine
+(:func:`roughgp.batch.engine.run_cases`: a local Dask cluster of ``--workers`` processes, one
+BLAS thread each, or ``--scheduler ADDRESS``); each record is appended to
+``spurious_points_full.partial.jsonl`` as its file ends, so an interrupted run resumes with the
+files not done, and the recorded file is written, in the order of ``REAL_FILES``, when all
+are. Not a test: run it by hand, about 10-15 minutes on the 2-core machine shared with other
+jobs.
 
-    OMP_NUM_THREADS=1 python benchmarks/spurious_points_full.py
+    python benchmarks/spurious_points_full.py --workers 2
 """
 
 from __future__ import annotations
 
+import argparse
 import datetime
 import json
 import sys
 import time
 from pathlib import Path
 
+from roughgp.batch.engine import (
+    add_cluster_options,
+    appending_records,
+    on_one_thread,
+    run_cases,
+)
+from roughgp.common.atomic import atomic_output
+from roughgp.common.jsonl import read_records
 from roughgp.experiments import spurious_points as sp
 
 RESULTS = Path(__file__).resolve().parent / "results"
@@ -40,18 +54,35 @@ def _row(r) -> str:
             f"{', '.join(map(str, r['history']))}{'' if r['converged'] else ' (cap)'} |")
 
 
-def main() -> int:
+def _case_record(name) -> dict:
+    return sp.study_record(sp.real_file_study(name, crop=None, seed=0))
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    add_cluster_options(parser)
+    args = parser.parse_args(argv)
     start, began = time.perf_counter(), datetime.datetime.now(datetime.timezone.utc)
-    records = []
-    for name in sp.REAL_FILES:
-        t = time.perf_counter()
-        records.append(sp.study_record(sp.real_file_study(name, crop=None, seed=0)))
-        print(f"{name}: {time.perf_counter() - t:.0f} s", flush=True)
+    partial = sp.RECORDED.with_suffix(".partial.jsonl")
+    done = {r["file"] for r in read_records(partial)}
+    cases = [(name, (_case_record, name), f"spurious-{name}") for name in sp.REAL_FILES
+             if name not in done]
+    run_cases(on_one_thread, cases, workers=args.workers, scheduler=args.scheduler,
+              on_result=appending_records(partial, lambda r: f"{r['flagged']} flagged",
+                                          len(cases)))
+    by_file = {r["file"]: r for r in read_records(partial)}
+    missing = [name for name in sp.REAL_FILES if name not in by_file]
+    if missing:
+        print(f"not done: {', '.join(missing)} (run again to resume)", file=sys.stderr)
+        return 1
     seconds = time.perf_counter() - start
-    sp.RECORDED.write_text("".join(json.dumps(r) + "\n" for r in records))
+    records = [by_file[name] for name in sp.REAL_FILES]
+    with atomic_output(sp.RECORDED) as out:
+        out.write_text("".join(json.dumps(r) + "\n" for r in records))
+    partial.unlink()
     lines = [
         f"# Spurious points on the whole real files ({began:%Y-%m-%d})", "",
-        "Command: `OMP_NUM_THREADS=1 python benchmarks/spurious_points_full.py` (the chapter "
+        "Command: `python benchmarks/spurious_points_full.py` (the chapter "
         "`spurious_points` with `ROUGHGP_FULL=1` computes the same), seed 0, on the 2-core "
         f"machine shared with other jobs: {seconds:.0f} s wall, started {began:%H:%M} UTC.", "",
         "RMSE on the measured, unflagged points hidden in discs (2 %), with the flagged points "

@@ -37,7 +37,8 @@ from roughgp.batch.records import Plan, current_record, record_name, write_recor
 from roughgp.batch.table import write_table
 from roughgp.common.digests import file_sha256
 
-__all__ = ["expand_inputs", "BatchResult", "run_batch", "run_cases", "BLAS_ENV", "default_workers",
+__all__ = ["expand_inputs", "BatchResult", "run_batch", "run_cases", "on_one_thread", "BLAS_ENV",
+           "default_workers",
            "NOT_MEASUREMENTS", "add_cluster_options", "appending_records"]
 
 #: the environment of each local worker process: one BLAS / OpenMP thread
@@ -173,6 +174,18 @@ def run_cases(function, cases, *, workers=None, scheduler=None, client=None, sta
             client.close()
             if cluster is not None:
                 cluster.close()
+
+
+def on_one_thread(function, *args):
+    """``function(*args)`` with the BLAS libraries on one thread and its warnings silenced: a
+    long run's case on a worker of :func:`run_cases` (``run_cases(on_one_thread, [(key,
+    (function, *args), name), ...])``; the record is what counts)."""
+    import warnings
+
+    from threadpoolctl import threadpool_limits
+    with threadpool_limits(1), warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return function(*args)
 
 
 def add_cluster_options(parser) -> None:

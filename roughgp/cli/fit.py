@@ -35,7 +35,8 @@ from roughgp.cli.options import (
     write_flagged,
 )
 from roughgp.cli.output import (
-    UsageError, add_force_option, check_device, check_outputs, err, print_wrapped,
+    UsageError, add_force_option, check_device, check_outputs, err, print_operators,
+    print_wrapped, refused_by,
 )
 from roughgp.io.measurement import mean_profile
 from roughgp.io.writers import atomic_output
@@ -382,20 +383,15 @@ def _fit_rungs(args, heights, operators, data, z):
         def show(rung):
             print(f"  {rung.name:<7} {rung.rmse:>19.5g} {rung.check.coverage():>12.1%} "
                   f"{rung.seconds:>8.1f}", flush=True)
-        try:
+        with refused_by(args.file):
             choice = choose_model(z, heights.spacing, progress=show, **settings)
-        except ValueError as exc:
-            raise UsageError(f"{args.file}: {exc}") from None
         print_wrapped(f"chose {choice.chosen}: {choice.reason}")
         model, notes = choice.model, choice.range_notes
     else:
-        try:
+        with refused_by(args.file):
             model, notes = fit_rung(args.rung, z, heights.spacing, **settings)
-        except ValueError as exc:
-            raise UsageError(f"{args.file}: {exc}") from None
     print(f"fitted to {args.file}: {model.describe()}")
-    print_wrapped(f"operators: {'; '.join(model.operators)} (the model describes the heights "
-                  f"after the F-operator; the filters are applied to its simulations)")
+    print_operators(model)
     if model.equation == "sm2d":
         _print_mixture(model)
     for note in notes:
@@ -446,19 +442,16 @@ def _fit_ground(args, heights, operators, data):
         args.rung, args.fell_back = "auto", True
     if args.rung != "eq18":
         return _fit_rungs(args, heights, operators, data, z), found
-    try:
+    with refused_by(args.file):
         result = fit_surface_model(z, heights.spacing, **operators, block=args.block,
                                    n_blocks=args.blocks, seed=args.seed, nu=args.nu,
                                    marginal=_marginal_choice(args), data=data,
                                    likelihood=args.likelihood, device=args.device)
-    except ValueError as exc:
-        raise UsageError(f"{args.file}: {exc}") from None
     model, fit = result.model, result.block_fit
     hp = model.hyperparameters
     name = "eq 18" if args.nu == 0.5 else f"eq 18 with a Matern nu = {args.nu:g} profile"
     print(f"{name} plus white noise (eq 8) fitted to {args.file}")
-    print_wrapped(f"operators: {'; '.join(model.operators)} (the model describes the heights "
-                  f"after the F-operator; the filters are applied to its simulations)")
+    print_operators(model)
     for note in result.texture.cutoffs.reason.split("; ") if result.texture.cutoffs.reason \
             else ():
         print_wrapped(f"note: {note}")

@@ -4,7 +4,7 @@ note of ``--model auto`` on a map whose mark repeats (argument handling and prin
 
 from __future__ import annotations
 
-from roughgp.cli.output import UsageError, print_wrapped
+from roughgp.cli.output import UsageError, print_operators, print_wrapped
 
 __all__ = ["fit_periodic_command", "fit_periodic_profile_command", "note_periodic_mark"]
 
@@ -14,7 +14,7 @@ def fit_periodic_command(args, heights, operators, data, z):
     (roughgp.surface_models.periodic_model), or None where the map holds no mark (the caller
     falls back to the ladder)."""
     from roughgp.surface_models.periodic_model import NoPeriodError, fit_periodic_model
-    try:
+    try:   # NoPeriodError is a ValueError: caught first, as no mark rather than a refusal
         fitted = fit_periodic_model(z, heights.spacing, **operators, feed=args.feed, data=data,
                                     device=args.device)
     except NoPeriodError as exc:
@@ -25,8 +25,7 @@ def fit_periodic_command(args, heights, operators, data, z):
         raise UsageError(f"{args.file}: {exc}") from None
     model = fitted.model
     print_wrapped(f"fitted to {args.file}: {model.describe()}")
-    print_wrapped(f"operators: {'; '.join(model.operators)} (the model describes the heights "
-                  f"after the F-operator; the filters are applied to its simulations)")
+    print_operators(model)
     how = model.fit
     print_wrapped(f"  {how['marks']} whole marks; the mark of one half of the map explains "
                   f"{how['mark_reproducibility']:.3f} of the other half's variance; the trace "

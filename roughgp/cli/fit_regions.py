@@ -10,7 +10,7 @@ import math
 import numpy as np
 
 from roughgp.cli.options import check_cutoffs
-from roughgp.cli.output import UsageError, err, print_wrapped
+from roughgp.cli.output import UsageError, err, print_operators, print_wrapped, refused_by
 
 __all__ = ["fit_field_command", "fit_population_command", "fit_population_files_command"]
 
@@ -20,15 +20,12 @@ def fit_field_command(args, heights, operators, data, z):
     from roughgp.inference.tile_fit import PARAMETERS
     from roughgp.surface_models.field_model import fit_field_model
     tiles = tuple(args.anchors or (4, 4))
-    try:
+    with refused_by(args.file):
         fitted = fit_field_model(z, heights.spacing, **operators, tiles=tiles, seed=args.seed,
                                  data=data, device=args.device)
-    except ValueError as exc:
-        raise UsageError(f"{args.file}: {exc}") from None
     model = fitted.model
     print(f"fitted to {args.file}: {model.describe()}")
-    print_wrapped(f"operators: {'; '.join(model.operators)} (the model describes the heights "
-                  f"after the F-operator; the filters are applied to its simulations)")
+    print_operators(model)
     print(f"  {'parameter':<13} {'population':>11} {'spread tau':>11} {'p same':>8} "
           f"{'p gradient':>11}  kept")
     for name in PARAMETERS:
@@ -84,16 +81,13 @@ def fit_population_command(args, maps, spacing, operators, data, names):
     tiles = tuple(args.anchors or (2, 2))
     err(f"fitting eq 18 on each of {len(maps)} maps" if several else
         f"fitting eq 18 on each of {tiles[0]} x {tiles[1]} tiles of {names[0]}")
-    try:
+    with refused_by(", ".join(map(str, names))):
         fitted = fit_population_model(maps if several else maps[0], spacing, **operators,
                                       tiles=tiles, seed=args.seed, data=data,
                                       device=args.device)
-    except ValueError as exc:
-        raise UsageError(f"{', '.join(map(str, names))}: {exc}") from None
     model = fitted.model
     print(f"fitted to {', '.join(map(str, names))}: {model.describe()}")
-    print_wrapped(f"operators: {'; '.join(model.operators)} (the model describes the heights "
-                  f"after the F-operator; the filters are applied to its simulations)")
+    print_operators(model)
     print(f"  {'parameter':<13} {'population':>11} {'spread tau':>11} {'se mean':>9} "
           f"{'p same':>8}  {'a new region':>13}")
     for label, pooled, spread in zip(PARAMETERS, fitted.pooled, SPREAD_NAMES):

@@ -3,6 +3,7 @@ the checks of output paths. Argument handling and presentation only; no computat
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
@@ -17,6 +18,7 @@ from roughgp.common.atomic import atomic_output, longest_name
 from roughgp.io.writers import check_write_format
 
 __all__ = ["UsageError", "WIDTH", "err", "show_warning", "wrap", "print_wrapped", "table",
+           "refused_by", "print_operators",
            "write_json", "check_output", "check_outputs", "add_force_option",
            "check_device", "describe_groove", "shell_message", "rename_parameters"]
 
@@ -109,6 +111,22 @@ def print_wrapped(text: str, indent: str = "  ") -> None:
     """Print ``text`` wrapped to :data:`WIDTH`, indented."""
     print(textwrap.fill(text, WIDTH, initial_indent=indent, subsequent_indent=indent + "  ",
                         break_on_hyphens=False))
+
+
+@contextlib.contextmanager
+def refused_by(source):
+    """Report a library's ``ValueError`` (a refused input) as a :class:`UsageError` prefixed
+    with ``source`` (the file or files it concerns): exit 2, no traceback."""
+    try:
+        yield
+    except ValueError as exc:
+        raise UsageError(f"{source}: {exc}") from None
+
+
+def print_operators(model) -> None:
+    """The fitted model's chain of operators, and what its heights are."""
+    print_wrapped(f"operators: {'; '.join(model.operators)} (the model describes the heights "
+                  f"after the F-operator; the filters are applied to its simulations)")
 
 
 def table(rows: list[tuple], widths: tuple[int, ...], header: tuple) -> str:

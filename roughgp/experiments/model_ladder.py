@@ -50,7 +50,8 @@ from roughgp.surface_models.fit import fit_psd_model, fit_sm_model, fit_surface_
 
 __all__ = ["Rung", "RUNGS", "PSD_MARGINALS", "SM_MARGINALS", "QUICK_RUNGS", "QUICK_FILES", "FORMS",
            "MAX_OUTSIDE", "TARGET_SHARE", "crop_size", "RECORDED",
-           "recorded_ladder", "RungResult", "run_rung", "Ladder", "model_ladder", "reasons",
+           "recorded_ladder", "RungResult", "run_rung", "ladder_case", "Ladder", "model_ladder",
+           "reasons",
            "verdict_lines", "markdown_table", "plot_ladder", "TAILS", "AMPLITUDE", "SPATIAL"]
 
 #: a best rung "reproduces" a map when at most this many of the 13 parameters are outside
@@ -356,15 +357,22 @@ def model_ladder(files=None, rungs=None, *, size=None, seed=0, n_simulations=19,
     start = time.perf_counter()
     results = []
     for name in files:
-        z, spacing, window = central_crop(name, size)
         for rung in rungs:
-            result = run_rung(z, spacing, rung, file=name, window=window,
-                              form=FORMS.get(name, "plane"), seed=seed,
-                              n_simulations=n_simulations)
+            result = ladder_case(name, rung, size, seed=seed, n_simulations=n_simulations)
             results.append(result)
             if progress is not None:
                 progress(result)
     return Ladder(tuple(results), files, rungs, size, time.perf_counter() - start)
+
+
+def ladder_case(name, rung, size, *, seed=0, n_simulations=19) -> RungResult:
+    """One case of the ladder: the rung ``rung`` on the central ``size`` points of the map
+    ``name`` of data/ (its form from :data:`FORMS`), as :func:`model_ladder` runs it. Depends on
+    its arguments only: the benchmark runs the cases on the project's engine
+    (:func:`roughgp.batch.engine.run_cases`) with the same records in any order."""
+    z, spacing, window = central_crop(name, size)
+    return run_rung(z, spacing, rung, file=name, window=window, form=FORMS.get(name, "plane"),
+                    seed=seed, n_simulations=n_simulations)
 
 
 #: the parameters of the height distribution's tails (spikes, pits, steps)

@@ -92,7 +92,8 @@ def fit_population_model(maps, spacing=1.0, *, form="plane", s=None, l=None, deg
     Args:
         spacing: scalar or ``(dy, dx)``, um, the spacing of every map.
         form, s, l, degree, axis: the operators, as
-            :func:`~roughgp.surface_models.fit.fit_surface_model`, applied to each map.
+            :func:`~roughgp.surface_models.fit.fit_surface_model`, resolved on the first
+            map (``"auto"`` cut-offs) and applied alike to each map.
         tiles: ``(m, n)`` tiles of a single map (each at least 16 x 16 points); ignored for
             several maps.
         n_draws, seed: the simulated scores of each region's sandwich covariance and their seed.
@@ -110,8 +111,10 @@ def fit_population_model(maps, spacing=1.0, *, form="plane", s=None, l=None, deg
     estimates, variances, points, shapes, operators, cutoffs = [], [], 0, [], None, None
     for index, arr in enumerate(arrays):
         try:
-            texture, cutoffs, heights = measured_chain(arr, (dy, dx), form, s, l, degree, axis,
-                                                       "form-removed")
+            # the first map resolves "auto" cut-offs; every other map gets the same operators
+            first = (s, l) if cutoffs is None else (cutoffs["s_um"], cutoffs["l_um"])
+            texture, cutoffs, heights = measured_chain(arr, (dy, dx), form, *first, degree,
+                                                       axis, "form-removed")
             fits = fit_tiles(heights, (dy, dx), tiles=(1, 1) if several else tiles,
                              n_draws=n_draws, seed=seed, device=device)
         except ValueError as exc:

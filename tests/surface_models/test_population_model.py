@@ -156,3 +156,17 @@ def test_regions_too_unlike_for_one_population_are_refused():
     maps[1] = maps[1] * 1e4     # a factor of 1e8 in variance: another part altogether
     with pytest.raises(ValueError, match="not regions of one part"):
         fit_population_model(maps, 1.0, l=None, n_draws=10)
+
+
+def test_maps_of_several_sizes_share_the_first_map_s_cut_offs():
+    """The L-filter's "auto" cut-off follows the map's size: the first map resolves it and
+    every other map is filtered alike (the model keeps one chain for all its regions)."""
+    from roughgp.metrology.filters import default_cutoffs
+    rng = np.random.default_rng(3)
+    model = eq18_model(1.0, 6.0, 3.0, 30.0, 0.01)
+    maps = [model.simulate((64, 64), seed=rng), model.simulate((48, 48), seed=rng),
+            model.simulate((32, 40), seed=rng)]
+    fit = fit_population_model(maps, 1.0, l="auto", n_draws=10, seed=0)
+    first, last = default_cutoffs(maps[0], (1.0, 1.0)).l, default_cutoffs(maps[-1], (1.0, 1.0)).l
+    assert first != last
+    assert fit.model.cutoffs["l_um"] == first

@@ -1,0 +1,109 @@
+"""The real maps of ``data/`` out of sample: each model fitted on one half of a map's central
+window and checked on both halves (``roughgp.experiments.real_out_of_sample``; issue 40).
+
+For each model of ``MODELS`` and each half (``left`` for wide windows, ``top`` for tall ones),
+one ``roughgp batch WINDOWS --part HALF --steps fit,check`` run, as a user would type it, on
+the project's engine (a local Dask cluster of ``--workers`` processes, or ``--scheduler``).
+The windows are written once to ``--work`` (default ``.real_out_of_sample/``, not committed)
+and each batch's folder is kept there, so an interrupted run resumes where it stopped. The
+rows (map, model, the parameters outside on each half, the rung, seconds, error) are written to
+``benchmarks/results/real_out_of_sample.jsonl`` and the report to ``real_out_of_sample.md``.
+Not a test: run it by hand,
+
+    python benchmarks/real_out_of_sample.py --workers 2     # about 45 minutes on 2 cores
+    python benchmarks/real_out_of_sample.py --report        # the report of the recorded rows
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+from roughgp.common.atomic import atomic_output
+from roughgp.experiments.real_out_of_sample import (
+    LONG,
+    MODELS,
+    PASS,
+    RECORDED,
+    SHORT,
+    load_rows,
+    per_map,
+    row_of,
+    summary,
+    write_windows,
+)
+
+
+def run(work: Path, workers: int, scheduler: str | None, models) -> list:
+    """Run every model's batches and return the rows of their records."""
+    groups = write_windows(work / "windows")
+    roughgp = str(Path(sys.executable).with_name("roughgp"))
+    cluster = ["--scheduler", scheduler] if scheduler else ["--workers", str(workers)]
+    rows = []
+    for model in models:
+        for part, paths in groups.items():
+            out = work / f"{model.name}-{part}"
+            command = [roughgp, "batch", *map(str, paths), "--part", part, "--steps",
+                       "fit,check", *model.options, *cluster, "--out", str(out)]
+            print("$", " ".join(command[1:]), flush=True)
+            done = subprocess.run(command)
+            if done.returncode in (2, 130):
+                raise SystemExit(done.returncode)
+            for record in sorted((out / "records").glob("*.json")):
+                rows.append(row_of(model.name, json.loads(record.read_text())))
+    return rows
+
+
+def report(rows) -> str:
+    """The Markdown report of the recorded rows."""
+    hours = sum(r["seconds"] or 0 for r in rows) / 3600
+    lines = [f"# The real maps out of sample ({datetime.date.today()})", "",
+             f"From `{RECORDED.name}`: {len(rows)} rows, {hours:.1f} CPU hours. Each map's "
+             f"central window (at most {LONG} points along its longer axis, {SHORT} across) is "
+             f"halved along its longer axis; each model is fitted on half A and checked with 19 "
+             f"simulations on A and on B, which it did not see (`roughgp batch --part A --steps "
+             f"fit,check`). Per model: the share of the maps with at most {PASS} of 13 "
+             f"parameters outside on each half.", "",
+             summary(rows).to_markdown(index=False, floatfmt=".2f"), "",
+             "Per map, outside on A / outside on B:", "",
+             per_map(rows).to_markdown(), ""]
+    errors = [f"- {r['map']}, {r['model']}: {r['error']}" for r in rows if r["error"]]
+    if errors:
+        lines += ["Refused:", "", *errors, ""]
+    return "\n".join(lines)
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--work", default=".real_out_of_sample",
+                        help="the folder of the windows and the batches (resumed if present)")
+    parser.add_argument("--workers", type=int, default=2, help="local workers (default 2)")
+    parser.add_argument("--scheduler", help="an existing Dask scheduler's address")
+    parser.add_argument("--models", help="comma-separated names of MODELS (default all)")
+    parser.add_argument("--report", action="store_true",
+                        help="only write and print the report of the recorded rows")
+    args = parser.parse_args(argv)
+    if not args.report:
+        names = args.models.split(",") if args.models else [m.name for m in MODELS]
+        unknown = set(names) - {m.name for m in MODELS}
+        if unknown:
+            parser.error(f"--models: unknown {sorted(unknown)}; choose from "
+                         f"{[m.name for m in MODELS]}")
+        rows = run(Path(args.work), args.workers, args.scheduler,
+                   [m for m in MODELS if m.name in names])
+        kept = [r for r in load_rows() if r["model"] not in names]
+        with atomic_output(RECORDED) as partial:
+            Path(partial).write_text("".join(json.dumps(r) + "\n" for r in kept + rows))
+    text = report(load_rows())
+    with atomic_output(RECORDED.with_suffix(".md")) as partial:
+        Path(partial).write_text(text)
+    print(text)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,164 @@
+"""The real maps of ``data/`` out of sample: each model fitted on one half of a map, checked on
+that half and on the other half, which it did not see (issue 40, the data's verdict).
+
+A researcher who measures part of a surface wants new surfaces like *the surface*. Each map of
+:data:`~roughgp.experiments.real_maps.REAL_MAPS` is cut to its central window of at most
+:data:`LONG` points along its longer axis and :data:`SHORT` along the other
+(:func:`split_window`), and the window is halved along its longer axis: half A (``left`` or
+``top``) is fitted, half B is held out. The run goes through ``roughgp batch --part A --steps
+fit,check`` with each model of :data:`MODELS`, exactly as a user would run it, so each row is
+what the single commands ``fit ground --part`` and ``check --held-out`` give (19 simulations,
+the batch's per-file seed). ``benchmarks/real_out_of_sample.py`` runs it and records the rows
+in :data:`RECORDED`; :func:`summary` counts, per model, the maps with at most :data:`PASS`
+parameters of 13 outside on each half.
+
+The issue's target is at least 80 % of the maps with at most 2 outside on the held-out half
+for the best model. "Best" is read here per model, chosen before looking at B: the share of
+maps each model passes. The best in hindsight (the model with the fewest outside on B, per
+map) is also shown, labelled as what it is: an upper bound, since it chooses on the held-out
+half itself.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+
+from roughgp.common.jsonl import read_records
+from roughgp.experiments.real_maps import REAL_MAPS
+
+__all__ = ["LONG", "SHORT", "PASS", "MODELS", "RECORDED", "Model", "split_window",
+           "write_windows", "load_rows", "summary", "per_map"]
+
+LONG, SHORT = 512, 256  #: the window: at most 512 points along the longer axis, 256 across
+PASS = 2  #: at most this many of 13 outside: the model reproduces that half
+RECORDED = Path(__file__).resolve().parents[2] / "benchmarks" / "results" / \
+    "real_out_of_sample.jsonl"
+
+
+@dataclasses.dataclass(frozen=True)
+class Model:
+    """A model of the run: its name in the tables and its ``roughgp batch`` options."""
+
+    name: str
+    options: tuple
+    about: str
+
+
+MODELS = (
+    Model("eq18", ("--model", "eq18", "--likelihood", "whittle"),
+          "the paper's eq 18, Gaussian heights, fitted by the Whittle likelihood"),
+    Model("auto", ("--model", "auto"),
+          "the ladder's choice by held-out prediction (fit ground --model auto)"),
+    Model("sm-iaaft", ("--model", "sm", "--marginal", "iaaft"),
+          "2-D spectral mixture, the measured heights (IAAFT)"),
+    Model("psd-iaaft", ("--model", "psd", "--marginal", "iaaft"),
+          "the measured PSD, the measured heights (IAAFT)"),
+    Model("population", ("--model", "population", "--anchors", "2", "2"),
+          "eq 18 per tile of half A (2 x 2), pooled by random effects; each simulation a new "
+          "region"),
+)
+
+
+def split_window(shape) -> tuple:
+    """``(first row, first column, rows, columns, part)``: the central window of a map of
+    ``shape`` (at most :data:`LONG` points along its longer axis, :data:`SHORT` across) and
+    the half fitted, ``"left"`` when the window is at least as wide as tall, else ``"top"``."""
+    ny, nx = (int(n) for n in shape)
+    wide = nx >= ny
+    rows, cols = (min(ny, SHORT), min(nx, LONG)) if wide else (min(ny, LONG), min(nx, SHORT))
+    return (ny - rows) // 2, (nx - cols) // 2, rows, cols, ("left" if wide else "top")
+
+
+def write_windows(folder, maps=REAL_MAPS) -> dict:
+    """Write each map's :func:`split_window` as ``folder/NAME.x3p`` (its spacing kept); return
+    ``{part: [paths]}``, the windows grouped by the half fitted."""
+    from roughgp.io.measurement import read_measurement
+    from roughgp.io.x3p import write_x3p
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    groups: dict = {}
+    for entry in maps:
+        m = read_measurement(entry.path)
+        r0, c0, rows, cols, part = split_window(m.z.shape)
+        path = folder / (entry.name.replace(".", "_") + ".x3p")
+        if not path.exists():
+            write_x3p(path, m.z[r0:r0 + rows, c0:c0 + cols], m.spacing,
+                      comment=f"{entry.name}: rows {r0}:{r0 + rows}, columns {c0}:{c0 + cols}")
+        groups.setdefault(part, []).append(path)
+    return groups
+
+
+def row_of(model: str, record: dict) -> dict:
+    """One recorded row from a batch record: the map, the model, the parameters outside on
+    each half, the rung fitted, the timings or the error."""
+    fit = record.get("fit") or {}
+    inside, held = record.get("check") or {}, record.get("held_out") or {}
+    name = Path(record["path"]).stem
+    for entry in REAL_MAPS:
+        if entry.name.replace(".", "_") == name:
+            name = entry.name
+    return {"map": name, "model": model, "shape": record.get("shape"),
+            "sha256": record.get("sha256"), "seed": record.get("seed"),
+            "rung": fit.get("rung"), "chosen": fit.get("chosen"),
+            "fitted_outside": inside.get("outside"), "held_out_outside": held.get("outside"),
+            "seconds": (record.get("seconds") or {}).get("total"),
+            "error": record.get("error")}
+
+
+def load_rows(path=RECORDED) -> list:
+    """The recorded rows (one per map and model)."""
+    return read_records(path) if Path(path).exists() else []
+
+
+def _count(outside):
+    return np.nan if outside is None else len(outside)
+
+
+def per_map(rows) -> "pandas.DataFrame":
+    """Maps by models: ``"A / B"``, the parameters outside on the fitted half and on the
+    held-out half (``refused`` where the model was not fitted)."""
+    import pandas as pd
+    table = {}
+    for r in rows:
+        cell = ("refused" if r["error"] else
+                f"{_count(r['fitted_outside'])} / {_count(r['held_out_outside'])}")
+        table.setdefault(r["map"], {})[r["model"]] = cell
+    order = [m.name for m in MODELS if any(r["model"] == m.name for r in rows)]
+    return pd.DataFrame.from_dict(table, orient="index")[order]
+
+
+def summary(rows) -> "pandas.DataFrame":
+    """Per model: the maps fitted, and of them the share with at most :data:`PASS` outside
+    on the fitted half and on the held-out half, the mean count outside on each, and the
+    maps refused. The last row, ``best in hindsight``, takes per map the model with the
+    fewest outside on the held-out half: an upper bound, since it chooses on that half."""
+    import pandas as pd
+    maps = sorted({r["map"] for r in rows})
+    lines = []
+
+    def line(name, chosen):
+        fitted = [r for r in chosen if not r["error"]]
+        a = np.array([_count(r["fitted_outside"]) for r in fitted], float)
+        b = np.array([_count(r["held_out_outside"]) for r in fitted], float)
+        lines.append({"model": name, "maps": len(maps), "fitted": len(fitted),
+                      "A: <= 2 outside": (float(np.sum(a <= PASS)) / len(maps)
+                                          if maps else np.nan),
+                      "B: <= 2 outside": (float(np.sum(b <= PASS)) / len(maps)
+                                          if maps else np.nan),
+                      "A: mean outside": float(np.mean(a)) if a.size else np.nan,
+                      "B: mean outside": float(np.mean(b)) if b.size else np.nan})
+
+    for m in MODELS:
+        chosen = [r for r in rows if r["model"] == m.name]
+        if chosen:
+            line(m.name, chosen)
+    best = []
+    for name in maps:
+        fitted = [r for r in rows if r["map"] == name and not r["error"]]
+        if fitted:
+            best.append(min(fitted, key=lambda r: _count(r["held_out_outside"])))
+    line("best in hindsight", best)
+    return pd.DataFrame(lines)

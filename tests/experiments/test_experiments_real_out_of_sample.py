@@ -1,0 +1,52 @@
+"""The real maps out of sample (roughgp.experiments.real_out_of_sample): the windows and halves,
+the rows read from batch records, and the summary's counts (the best in hindsight included)."""
+
+from __future__ import annotations
+
+import pytest
+
+from roughgp.experiments import real_out_of_sample as ros
+
+
+@pytest.mark.parametrize("shape, expected", [
+    ((256, 918), (0, 203, 256, 512, "left")),
+    ((512, 512), (128, 0, 256, 512, "left")),
+    ((256, 256), (0, 0, 256, 256, "left")),
+    ((300, 150), (0, 0, 300, 150, "top")),
+    ((1000, 300), (244, 22, 512, 256, "top")),
+])
+def test_the_window_is_central_and_halved_along_its_longer_axis(shape, expected):
+    assert ros.split_window(shape) == expected
+
+
+def _record(path, fitted, held, error=None):
+    return {"path": path, "sha256": "ab", "seed": 1, "shape": [256, 512], "error": error,
+            "seconds": {"total": 10.0}, "fit": {"rung": "eq18"},
+            "check": None if error else {"outside": fitted},
+            "held_out": None if error else {"outside": held}}
+
+
+def test_a_row_names_the_map_and_the_parameters_outside_on_each_half():
+    row = ros.row_of("eq18", _record("w/opd-1_opd.x3p", ["Sq"], ["Sq", "Sal"]))
+    assert row["map"] == "opd-1.opd" and row["model"] == "eq18"
+    assert row["fitted_outside"] == ["Sq"] and row["held_out_outside"] == ["Sq", "Sal"]
+    refused = ros.row_of("auto", _record("w/di-3_di.x3p", None, None, error="too small"))
+    assert refused["error"] == "too small" and refused["held_out_outside"] is None
+
+
+def test_the_summary_counts_refused_maps_as_not_reproduced_and_the_hindsight_bound():
+    p13 = [f"P{i}" for i in range(13)]
+    rows = [ros.row_of("eq18", _record("a.x3p", ["Sq"], ["Sq"])),
+            ros.row_of("eq18", _record("b.x3p", p13, p13)),
+            ros.row_of("psd-iaaft", _record("a.x3p", [], p13[:5])),
+            ros.row_of("psd-iaaft", _record("b.x3p", [], [], error="refused"))]
+    table = ros.summary(rows).set_index("model")
+    assert table.loc["eq18", "B: <= 2 outside"] == 0.5
+    assert table.loc["psd-iaaft", "A: <= 2 outside"] == 0.5     # b refused: not reproduced
+    assert table.loc["psd-iaaft", "fitted"] == 1
+    assert table.loc["psd-iaaft", "B: mean outside"] == 5
+    best = table.loc["best in hindsight"]
+    assert best["B: <= 2 outside"] == 0.5 and best["B: mean outside"] == 7  # a: 1, b: 13
+    cells = ros.per_map(rows)
+    assert cells.loc["a", "eq18"] == "1 / 1" and cells.loc["b", "psd-iaaft"] == "refused"
+    assert list(cells.columns) == ["eq18", "psd-iaaft"]
