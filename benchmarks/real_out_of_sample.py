@@ -10,8 +10,12 @@ rows (map, model, the parameters outside on each half, the rung, seconds, error)
 ``benchmarks/results/real_out_of_sample.jsonl`` and the report to ``real_out_of_sample.md``.
 Not a test: run it by hand,
 
-    python benchmarks/real_out_of_sample.py --workers 2     # about 45 minutes on 2 cores
+    python benchmarks/real_out_of_sample.py --workers 2     # about an hour on 2 cores
     python benchmarks/real_out_of_sample.py --report        # the report of the recorded rows
+
+A model's run stopped part-way (Ctrl-C) resumes with the same command; ``--collect`` records
+what the batches in ``--work`` hold without running more (the report counts each model over
+the maps it was run on).
 """
 
 from __future__ import annotations
@@ -38,8 +42,9 @@ from roughgp.experiments.real_out_of_sample import (
 )
 
 
-def run(work: Path, workers: int, scheduler: str | None, models) -> list:
-    """Run every model's batches and return the rows of their records."""
+def run(work: Path, workers: int, scheduler: str | None, models, collect=False) -> list:
+    """Run every model's batches (``collect``: only read the records already there) and
+    return the rows of their records."""
     groups = write_windows(work / "windows")
     roughgp = str(Path(sys.executable).with_name("roughgp"))
     cluster = ["--scheduler", scheduler] if scheduler else ["--workers", str(workers)]
@@ -49,10 +54,11 @@ def run(work: Path, workers: int, scheduler: str | None, models) -> list:
             out = work / f"{model.name}-{part}"
             command = [roughgp, "batch", *map(str, paths), "--part", part, "--steps",
                        "fit,check", *model.options, *cluster, "--out", str(out)]
-            print("$", " ".join(command[1:]), flush=True)
-            done = subprocess.run(command)
-            if done.returncode in (2, 130):
-                raise SystemExit(done.returncode)
+            if not collect:
+                print("$", " ".join(command[1:]), flush=True)
+                done = subprocess.run(command)
+                if done.returncode in (2, 130):
+                    raise SystemExit(done.returncode)
             for record in sorted((out / "records").glob("*.json")):
                 rows.append(row_of(model.name, json.loads(record.read_text())))
     return rows
@@ -86,6 +92,9 @@ def main(argv=None) -> int:
     parser.add_argument("--models", help="comma-separated names of MODELS (default all)")
     parser.add_argument("--report", action="store_true",
                         help="only write and print the report of the recorded rows")
+    parser.add_argument("--collect", action="store_true",
+                        help="record the rows of the batches already in --work without running "
+                             "them (a model stopped part-way: the maps it finished)")
     args = parser.parse_args(argv)
     if not args.report:
         names = args.models.split(",") if args.models else [m.name for m in MODELS]
@@ -94,7 +103,7 @@ def main(argv=None) -> int:
             parser.error(f"--models: unknown {sorted(unknown)}; choose from "
                          f"{[m.name for m in MODELS]}")
         rows = run(Path(args.work), args.workers, args.scheduler,
-                   [m for m in MODELS if m.name in names])
+                   [m for m in MODELS if m.name in names], collect=args.collect)
         kept = [r for r in load_rows() if r["model"] not in names]
         with atomic_output(RECORDED) as partial:
             Path(partial).write_text("".join(json.dumps(r) + "\n" for r in kept + rows))

@@ -30,7 +30,8 @@ from roughgp.common.jsonl import read_records
 from roughgp.experiments.real_maps import REAL_MAPS
 
 __all__ = ["LONG", "SHORT", "PASS", "MODELS", "RECORDED", "Model", "split_window",
-           "write_windows", "load_rows", "summary", "per_map"]
+           "write_windows", "row_of", "load_rows", "summary", "per_map", "sq_ratio",
+           "outside_by_parameter"]
 
 LONG, SHORT = 512, 256  #: the window: at most 512 points along the longer axis, 256 across
 PASS = 2  #: at most this many of 13 outside: the model reproduces that half
@@ -104,8 +105,13 @@ def row_of(model: str, record: dict) -> dict:
             "sha256": record.get("sha256"), "seed": record.get("seed"),
             "rung": fit.get("rung"), "chosen": fit.get("chosen"),
             "fitted_outside": inside.get("outside"), "held_out_outside": held.get("outside"),
+            "sq_um": [_measured(inside, "Sq"), _measured(held, "Sq")],
             "seconds": (record.get("seconds") or {}).get("total"),
             "error": record.get("error")}
+
+
+def _measured(check: dict, name: str):
+    return ((check.get("parameters") or {}).get(name) or {}).get("measured")
 
 
 def load_rows(path=RECORDED) -> list:
@@ -127,27 +133,53 @@ def per_map(rows) -> "pandas.DataFrame":
                 f"{_count(r['fitted_outside'])} / {_count(r['held_out_outside'])}")
         table.setdefault(r["map"], {})[r["model"]] = cell
     order = [m.name for m in MODELS if any(r["model"] == m.name for r in rows)]
-    return pd.DataFrame.from_dict(table, orient="index")[order]
+    frame = pd.DataFrame.from_dict(table, orient="index")[order]
+    frame.insert(0, "Sq B / A", [sq_ratio(rows, name) for name in frame.index])
+    return frame
+
+
+def sq_ratio(rows, name) -> float:
+    """The measured Sq of the held-out half over the fitted half's for the map ``name`` (the
+    same for every model: the halves' own roughness), NaN where no check recorded it."""
+    for r in rows:
+        a, b = r.get("sq_um") or (None, None)
+        if r["map"] == name and a and b:
+            return float(b) / float(a)
+    return np.nan
+
+
+def outside_by_parameter(rows, half="held_out") -> "pandas.DataFrame":
+    """Parameters by models: on how many maps each parameter is outside on ``half``
+    (``"held_out"``: B, ``"fitted"``: A)."""
+    import pandas as pd
+    from roughgp.checking.model_check import SURFACE_PARAMETERS
+    counts = {}
+    for r in rows:
+        for name in r[f"{half}_outside"] or ():
+            counts.setdefault(r["model"], {}).setdefault(name, 0)
+            counts[r["model"]][name] += 1
+    order = [m.name for m in MODELS if any(r["model"] == m.name for r in rows)]
+    return pd.DataFrame({m: [counts.get(m, {}).get(p, 0) for p in SURFACE_PARAMETERS]
+                         for m in order}, index=list(SURFACE_PARAMETERS))
 
 
 def summary(rows) -> "pandas.DataFrame":
-    """Per model: the maps fitted, and of them the share with at most :data:`PASS` outside
-    on the fitted half and on the held-out half, the mean count outside on each, and the
-    maps refused. The last row, ``best in hindsight``, takes per map the model with the
-    fewest outside on the held-out half: an upper bound, since it chooses on that half."""
+    """Per model: the maps it was run on, those fitted (not refused), and the share of the maps
+    run with at most :data:`PASS` outside on the fitted half and on the held-out half (a
+    refused map counts as not reproduced), the mean count outside on each. The last row,
+    ``best in hindsight``, takes per map the model with the fewest outside on the held-out
+    half: an upper bound, since it chooses on that half."""
     import pandas as pd
-    maps = sorted({r["map"] for r in rows})
     lines = []
 
     def line(name, chosen):
         fitted = [r for r in chosen if not r["error"]]
         a = np.array([_count(r["fitted_outside"]) for r in fitted], float)
         b = np.array([_count(r["held_out_outside"]) for r in fitted], float)
-        lines.append({"model": name, "maps": len(maps), "fitted": len(fitted),
-                      "A: <= 2 outside": (float(np.sum(a <= PASS)) / len(maps)
-                                          if maps else np.nan),
-                      "B: <= 2 outside": (float(np.sum(b <= PASS)) / len(maps)
-                                          if maps else np.nan),
+        n = len(chosen)
+        lines.append({"model": name, "maps": n, "fitted": len(fitted),
+                      "A: <= 2 outside": float(np.sum(a <= PASS)) / n if n else np.nan,
+                      "B: <= 2 outside": float(np.sum(b <= PASS)) / n if n else np.nan,
                       "A: mean outside": float(np.mean(a)) if a.size else np.nan,
                       "B: mean outside": float(np.mean(b)) if b.size else np.nan})
 
@@ -156,7 +188,7 @@ def summary(rows) -> "pandas.DataFrame":
         if chosen:
             line(m.name, chosen)
     best = []
-    for name in maps:
+    for name in sorted({r["map"] for r in rows}):
         fitted = [r for r in rows if r["map"] == name and not r["error"]]
         if fitted:
             best.append(min(fitted, key=lambda r: _count(r["held_out_outside"])))

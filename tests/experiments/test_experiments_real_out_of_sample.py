@@ -22,8 +22,10 @@ def test_the_window_is_central_and_halved_along_its_longer_axis(shape, expected)
 def _record(path, fitted, held, error=None):
     return {"path": path, "sha256": "ab", "seed": 1, "shape": [256, 512], "error": error,
             "seconds": {"total": 10.0}, "fit": {"rung": "eq18"},
-            "check": None if error else {"outside": fitted},
-            "held_out": None if error else {"outside": held}}
+            "check": None if error else {"outside": fitted,
+                                         "parameters": {"Sq": {"measured": 2.0}}},
+            "held_out": None if error else {"outside": held,
+                                            "parameters": {"Sq": {"measured": 3.0}}}}
 
 
 def test_a_row_names_the_map_and_the_parameters_outside_on_each_half():
@@ -49,4 +51,8 @@ def test_the_summary_counts_refused_maps_as_not_reproduced_and_the_hindsight_bou
     assert best["B: <= 2 outside"] == 0.5 and best["B: mean outside"] == 7  # a: 1, b: 13
     cells = ros.per_map(rows)
     assert cells.loc["a", "eq18"] == "1 / 1" and cells.loc["b", "psd-iaaft"] == "refused"
-    assert list(cells.columns) == ["eq18", "psd-iaaft"]
+    assert list(cells.columns) == ["Sq B / A", "eq18", "psd-iaaft"]
+    assert cells.loc["a", "Sq B / A"] == 1.5
+    by_parameter = ros.outside_by_parameter(rows)
+    assert by_parameter.loc["Sq", "eq18"] == 1 and by_parameter.loc["Sq", "psd-iaaft"] == 0
+    assert len(by_parameter) == 13   # the parameters of the check, whatever the rows name
