@@ -38,8 +38,7 @@ from roughgp.batch.table import write_table
 from roughgp.common.digests import file_sha256
 
 __all__ = ["expand_inputs", "BatchResult", "run_batch", "run_cases", "on_one_thread", "BLAS_ENV",
-           "default_workers",
-           "NOT_MEASUREMENTS", "add_cluster_options", "appending_records"]
+           "default_workers", "NOT_MEASUREMENTS", "add_cluster_options", "appending_records"]
 
 #: the environment of each local worker process: one BLAS / OpenMP thread
 BLAS_ENV = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}

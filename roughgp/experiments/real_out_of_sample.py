@@ -178,8 +178,8 @@ def summary(rows) -> "pandas.DataFrame":
         b = np.array([_count(r["held_out_outside"]) for r in fitted], float)
         n = len(chosen)
         lines.append({"model": name, "maps": n, "fitted": len(fitted),
-                      "A: <= 2 outside": float(np.sum(a <= PASS)) / n if n else np.nan,
-                      "B: <= 2 outside": float(np.sum(b <= PASS)) / n if n else np.nan,
+                      "A: ≤ 2 outside": float(np.sum(a <= PASS)) / n if n else np.nan,
+                      "B: ≤ 2 outside": float(np.sum(b <= PASS)) / n if n else np.nan,
                       "A: mean outside": float(np.mean(a)) if a.size else np.nan,
                       "B: mean outside": float(np.mean(b)) if b.size else np.nan})
 

@@ -43,12 +43,12 @@ def test_the_summary_counts_refused_maps_as_not_reproduced_and_the_hindsight_bou
             ros.row_of("psd-iaaft", _record("a.x3p", [], p13[:5])),
             ros.row_of("psd-iaaft", _record("b.x3p", [], [], error="refused"))]
     table = ros.summary(rows).set_index("model")
-    assert table.loc["eq18", "B: <= 2 outside"] == 0.5
-    assert table.loc["psd-iaaft", "A: <= 2 outside"] == 0.5     # b refused: not reproduced
+    assert table.loc["eq18", "B: ≤ 2 outside"] == 0.5
+    assert table.loc["psd-iaaft", "A: ≤ 2 outside"] == 0.5     # b refused: not reproduced
     assert table.loc["psd-iaaft", "fitted"] == 1
     assert table.loc["psd-iaaft", "B: mean outside"] == 5
     best = table.loc["best in hindsight"]
-    assert best["B: <= 2 outside"] == 0.5 and best["B: mean outside"] == 7  # a: 1, b: 13
+    assert best["B: ≤ 2 outside"] == 0.5 and best["B: mean outside"] == 7  # a: 1, b: 13
     cells = ros.per_map(rows)
     assert cells.loc["a", "eq18"] == "1 / 1" and cells.loc["b", "psd-iaaft"] == "refused"
     assert list(cells.columns) == ["Sq B / A", "eq18", "psd-iaaft"]
