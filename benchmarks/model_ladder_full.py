@@ -26,7 +26,6 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import datetime
-import json
 import sys
 import time
 from pathlib import Path
@@ -37,8 +36,7 @@ from roughgp.batch.engine import (
     on_one_thread,
     run_cases,
 )
-from roughgp.common.atomic import atomic_output
-from roughgp.common.jsonl import read_records
+from roughgp.common.jsonl import read_records, write_records
 from roughgp.experiments import model_ladder as ml
 from roughgp.experiments.real_maps import REAL_MAPS
 
@@ -73,11 +71,6 @@ def write_report(command, seconds, size) -> None:
     print(report.read_text())
 
 
-def recorded_records(size) -> list:
-    """The recorded records of ``size`` (none where there is no file)."""
-    return read_records(_paths(size)[0])
-
-
 def _case_record(name, rung, size) -> dict:
     return ml.ladder_case(name, rung, size).to_record()
 
@@ -99,11 +92,10 @@ def main(argv=None) -> None:
         return
     path = _paths(args.size)[0]
     wanted = {(f, g) for f in args.files for g in args.rungs}
-    records = recorded_records(args.size)
+    records = read_records(path)
     if args.rerun:
         kept = [r for r in records if (r["file"], r["rung"]) not in wanted]
-        with atomic_output(path) as partial:
-            partial.write_text("".join(json.dumps(r) + "\n" for r in kept))
+        write_records(path, kept)
         print(f"{len(records) - len(kept)} recorded cases dropped to be run again")
         records = kept
     done = {(r["file"], r["rung"]) for r in records}

@@ -27,7 +27,9 @@ import subprocess
 import sys
 from pathlib import Path
 
+from roughgp.batch.engine import add_cluster_options
 from roughgp.common.atomic import atomic_output
+from roughgp.common.jsonl import write_records
 from roughgp.experiments.real_out_of_sample import (
     LONG,
     MODELS,
@@ -42,12 +44,13 @@ from roughgp.experiments.real_out_of_sample import (
 )
 
 
-def run(work: Path, workers: int, scheduler: str | None, models, collect=False) -> list:
+def run(work: Path, workers, scheduler, models, collect=False) -> list:
     """Run every model's batches (``collect``: only read the records already there) and
     return the rows of their records."""
     groups = write_windows(work / "windows")
     roughgp = str(Path(sys.executable).with_name("roughgp"))
-    cluster = ["--scheduler", scheduler] if scheduler else ["--workers", str(workers)]
+    cluster = (["--scheduler", scheduler] if scheduler else
+               ["--workers", str(workers)] if workers else [])   # batch's default: the cores
     rows = []
     for model in models:
         for part, paths in groups.items():
@@ -87,8 +90,7 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--work", default=".real_out_of_sample",
                         help="the folder of the windows and the batches (resumed if present)")
-    parser.add_argument("--workers", type=int, default=2, help="local workers (default 2)")
-    parser.add_argument("--scheduler", help="an existing Dask scheduler's address")
+    add_cluster_options(parser)
     parser.add_argument("--models", help="comma-separated names of MODELS (default all)")
     parser.add_argument("--report", action="store_true",
                         help="only write and print the report of the recorded rows")
@@ -105,8 +107,7 @@ def main(argv=None) -> int:
         rows = run(Path(args.work), args.workers, args.scheduler,
                    [m for m in MODELS if m.name in names], collect=args.collect)
         kept = [r for r in load_rows() if r["model"] not in names]
-        with atomic_output(RECORDED) as partial:
-            Path(partial).write_text("".join(json.dumps(r) + "\n" for r in kept + rows))
+        write_records(RECORDED, kept + rows)
     text = report(load_rows())
     with atomic_output(RECORDED.with_suffix(".md")) as partial:
         Path(partial).write_text(text)

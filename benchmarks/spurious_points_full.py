@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import argparse
 import datetime
-import json
 import sys
 import time
 from pathlib import Path
@@ -33,8 +32,7 @@ from roughgp.batch.engine import (
     on_one_thread,
     run_cases,
 )
-from roughgp.common.atomic import atomic_output
-from roughgp.common.jsonl import read_records
+from roughgp.common.jsonl import read_records, write_records
 from roughgp.experiments import spurious_points as sp
 
 RESULTS = Path(__file__).resolve().parent / "results"
@@ -77,8 +75,7 @@ def main(argv=None) -> int:
         return 1
     seconds = time.perf_counter() - start
     records = [by_file[name] for name in sp.REAL_FILES]
-    with atomic_output(sp.RECORDED) as out:
-        out.write_text("".join(json.dumps(r) + "\n" for r in records))
+    write_records(sp.RECORDED, records)
     partial.unlink()
     lines = [
         f"# Spurious points on the whole real files ({began:%Y-%m-%d})", "",

@@ -5,7 +5,9 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-__all__ = ["read_records"]
+from roughgp.common.atomic import atomic_output
+
+__all__ = ["read_records", "write_records"]
 
 
 def read_records(path) -> list:
@@ -23,3 +25,11 @@ def read_records(path) -> list:
         except json.JSONDecodeError as error:
             raise ValueError(f"{path}:{number}: not a JSON record ({error.msg})") from None
     return records
+
+
+def write_records(path, records) -> None:
+    """Write ``records`` (JSON-able dicts) to ``path``, one a line, in place of what it held:
+    atomically, so an interruption leaves the old file or the new one, never half of it."""
+    with atomic_output(path) as partial:
+        Path(partial).write_text("".join(json.dumps(r) + "\n" for r in records),
+                                 encoding="utf-8")

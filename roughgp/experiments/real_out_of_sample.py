@@ -116,7 +116,7 @@ def _measured(check: dict, name: str):
 
 def load_rows(path=RECORDED) -> list:
     """The recorded rows (one per map and model)."""
-    return read_records(path) if Path(path).exists() else []
+    return read_records(path)
 
 
 def _count(outside):
