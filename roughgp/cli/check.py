@@ -60,7 +60,9 @@ other parts of it too. Fit on a part (roughgp fit ground FILE --part left), then
 checks the model on that part and on the part it did not see (the other half), side by
 side; --part P checks any part. --predictive B draws the simulations from B refits of
 bootstrap measurements of the model (the fit's uncertainty carried: plug-in simulations of
-one fitted model are too alike for another crop). --tiles M N cuts the map into M x N tiles
+one fitted model are too alike for another crop); with --predictive-from sandwich (eq 18
+models) from B parameter sets drawn from the Whittle likelihood's sandwich covariance on the
+fitted grid instead: no refits, seconds instead of minutes on 256 x 256 points. --tiles M N cuts the map into M x N tiles
 and ranks each tile's Sq, Sal, Str and Std among the same tile of the simulations: where on
 the map the model fails (--plot draws the tiles). How often each says "outside" on surfaces
 of known models: the chapter "Does the model check say no when it should?".
@@ -70,6 +72,7 @@ examples:
   roughgp check land-model.json land.x3p --calibrate 19
   roughgp fit ground map.x3p --part left --out left.json
   roughgp check left.json map.x3p --held-out --predictive 9
+  roughgp check left.json map.x3p --held-out --predictive 19 --predictive-from sandwich
   roughgp check left.json map.x3p --tiles 2 4 --plot tiles.png"""
 
 
@@ -96,6 +99,10 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     c.add_argument("--predictive", type=integer("--predictive"), metavar="B",
                    help=f"draw the simulations from B refits of bootstrap measurements of the "
                         f"model, {bounds_text('--predictive')} (default: the plug-in model)")
+    c.add_argument("--predictive-from", choices=("refits", "sandwich"), default="refits",
+                   help="how --predictive draws the models: 'refits' (B bootstrap refits, "
+                        "any rung --calibrate refits) or 'sandwich' (eq 18: B parameter sets "
+                        "from the Whittle sandwich covariance, no refits) (default refits)")
     c.add_argument("--tiles", type=integer("--tiles"), nargs=2, metavar=("M", "N"),
                    help="rank each of M x N tiles' Sq, Sal, Str, Std among the same tile of "
                         "the simulations (tiles of at least 16 x 16 points)")
@@ -126,6 +133,9 @@ def _refuse_combinations(args) -> None:
             if given:
                 raise UsageError(f"--calibrate calibrates the plain check of one measurement; "
                                  f"it cannot be combined with {option}")
+    if args.predictive_from != "refits" and args.predictive is None:
+        raise UsageError(f"--predictive-from {args.predictive_from} chooses how --predictive B "
+                         f"draws its models: give --predictive B too")
     if args.held_out and args.part is not None:
         raise UsageError("--held-out checks the fitted part and the other half; --part checks "
                          "one part: give one of them")
@@ -153,15 +163,35 @@ def _fitted_part(model, heights, args):
     return part
 
 
+def _sandwich_models(model, args, shape):
+    import numpy as np
+
+    from roughgp.checking.sandwich_draws import sandwich_models
+    err(f"drawing {args.predictive} parameter sets of the model from its Whittle sandwich "
+        f"covariance on the fitted {shape[0]} x {shape[1]} grid (the fit's uncertainty) ...")
+    try:
+        drawn = sandwich_models(model, None, np.ones(shape, dtype=bool), args.predictive,
+                                seed=args.seed)
+    except ValueError as error:
+        raise UsageError(f"--predictive-from sandwich: {args.model}: {error}") from None
+    if drawn.held:
+        err(f"  held at the fit (the fitted grid does not determine them): "
+            f"{', '.join(drawn.held)}")
+    return drawn.models
+
+
 def _predictive_models(model, args, start):
     from roughgp.checking.predictive import bootstrap_models, fitted_shape, predictive_refusal
+    shape = fitted_shape(model, None)
+    if shape is None:
+        what = "sandwich" if args.predictive_from == "sandwich" else "bootstrap measurements"
+        raise UsageError(f"--predictive: {args.model} records no fitted shape (data.shape): "
+                         f"its {what} have no grid")
+    if args.predictive_from == "sandwich":
+        return _sandwich_models(model, args, shape)
     why = predictive_refusal(model)
     if why:
         raise UsageError(f"--predictive: {args.model}: {why}")
-    shape = fitted_shape(model, None)
-    if shape is None:
-        raise UsageError(f"--predictive: {args.model} records no fitted shape (data.shape): "
-                         f"its bootstrap measurements have no grid")
     err(f"refitting {args.predictive} bootstrap measurements of {shape[0]} x {shape[1]} points "
         f"drawn from the model (the fit's uncertainty) ...")
 
@@ -208,7 +238,8 @@ def run(args) -> int:
     err(f"simulating {args.simulations} {model.kind}s of {' x '.join(map(str, z.shape))}"
         f" points from {args.model} ...")
     spacing = heights.spacing if model.kind == "surface" else (heights.spacing[-1],)
-    draws = "predictive" if models is not None else "plug-in"
+    draws = args.draws = ("plug-in" if models is None else "predictive" if
+                          args.predictive_from == "refits" else "predictive (sandwich)")
     if args.tiles:
         code = _tiles(args, model, z, spacing, models, start, json_out, plot, spacing_note)
     elif fitted_part is not None:
@@ -302,7 +333,7 @@ def _held_out(args, model, z, spacing, models, fitted_part, start, json_out, plo
     except ValueError as error:
         raise UsageError(f"--held-out: {error}") from None
     err(f"({time.perf_counter() - start:.1f} s)")
-    draws = "predictive" if models is not None else "plug-in"
+    draws = args.draws
     print(f"{args.file} against {args.simulations} {draws} simulations of {args.model}, on the "
           f"part it was fitted on and on the part it did not see")
     _print_head(model, result.held_out, spacing_note)
@@ -331,7 +362,7 @@ def _tiles(args, model, z, spacing, models, start, json_out, plot, spacing_note)
     result = tile_check(model, z, spacing, tiles=tuple(args.tiles),
                         n_simulations=args.simulations, seed=args.seed, models=models)
     err(f"({time.perf_counter() - start:.1f} s)")
-    draws = "predictive" if models is not None else "plug-in"
+    draws = args.draws
     m, n = result.tiles
     print(f"{args.file} in {m} x {n} tiles against {args.simulations} {draws} simulations of "
           f"{args.model}")

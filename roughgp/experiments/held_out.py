@@ -40,6 +40,8 @@ import numpy as np
 from roughgp.checking.held_out import part_of
 from roughgp.checking.model_check import SURFACE_PARAMETERS, check_model
 from roughgp.checking.predictive import bootstrap_models, recentred
+from roughgp.checking.ranks import verdict_within
+from roughgp.checking.sandwich_draws import sandwich_models
 from roughgp.checking.tiles import TILE_PARAMETERS, tile_check
 from roughgp.common.jsonl import read_records
 from roughgp.experiments.check_calibration import CASES
@@ -49,11 +51,12 @@ from roughgp.surface_models.model import FittedModel
 
 __all__ = ["KINDS", "VARIANTS", "SHAPE", "TILES", "VARIANCE_SPREAD", "LENGTH_SPREAD",
            "eq18_model", "synthetic_map", "held_out_case",
-           "outside_shares", "shares_table"]
+           "outside_shares", "shares_table", "calibration_table"]
 
 KINDS = ("stationary", "holes", "hierarchical", "gradient")
 #: the checks of each case (module docstring); the predictive ones only with n_models > 0
-VARIANTS = ("in-sample", "held-out", "held-out-true", "predictive", "predictive-fit")
+VARIANTS = ("in-sample", "held-out", "held-out-true", "predictive", "predictive-fit",
+            "predictive-sandwich")
 SHAPE = (64, 128)
 TILES = (2, 4)
 _BLOCK, _N_BLOCKS = 16, 10
@@ -112,16 +115,23 @@ def synthetic_map(kind, index, *, shape=SHAPE, seed=0):
 
 
 def held_out_case(kind, index, *, shape=SHAPE, n_simulations=19, n_models=9, seed=0,
-                  likelihood="blocks") -> dict:
+                  likelihood="blocks", sandwich=False) -> dict:
     """One case (module docstring): the fitted hyperparameters, the parameters outside per
     variant, the tile check's outside shares per half, and the seconds taken. ``likelihood``:
     the fit's (:data:`~roughgp.surface_models.fit.LIKELIHOODS`; ``"whittle"`` uses every point
-    of the half instead of the blocks)."""
+    of the half instead of the blocks). ``sandwich`` (Whittle fits only): add the variant
+    ``predictive-sandwich``, each simulation's parameters drawn from the fit's large-sample
+    distribution (:func:`~roughgp.checking.sandwich_draws.sandwich_models`; no refits); its
+    ``sandwich_refused`` says why where they cannot be drawn."""
+    if sandwich and likelihood != "whittle":
+        raise ValueError("sandwich=True needs likelihood='whittle' (the draws use the Whittle "
+                         f"fit's sandwich covariance), got likelihood={likelihood!r}")
     began = time.perf_counter()
     z, _, truth_right = synthetic_map(kind, index, shape=shape, seed=seed)
     fitted_part, held_part = part_of(z.shape, "left"), part_of(z.shape, "right")
-    fitted = fit_surface_model(fitted_part.cut(z), 1.0, block=_BLOCK, n_blocks=_N_BLOCKS,
-                               seed=seed + index, likelihood=likelihood).model
+    result = fit_surface_model(fitted_part.cut(z), 1.0, block=_BLOCK, n_blocks=_N_BLOCKS,
+                               seed=seed + index, likelihood=likelihood)
+    fitted = result.model
     a, b = fitted_part.cut(z), held_part.cut(z)
     check_seed = int(np.random.default_rng([seed, index, 7]).integers(2**31))
     options = dict(n_simulations=n_simulations, seed=check_seed)
@@ -134,6 +144,15 @@ def held_out_case(kind, index, *, shape=SHAPE, n_simulations=19, n_models=9, see
         for variant, centre in (("predictive", "bias-corrected"), ("predictive-fit", "fit")):
             outside[variant] = check_model(fitted, b, models=recentred(fitted, refits, centre),
                                            **options).outside
+    refused = None
+    if sandwich:
+        try:
+            drawn = sandwich_models(fitted, result.block_fit, np.isfinite(result.texture.sl),
+                                    n_simulations, seed=check_seed)
+            outside["predictive-sandwich"] = check_model(fitted, b, models=drawn.models,
+                                                         **options).outside
+        except ValueError as error:
+            refused = str(error)
     tiles = tile_check(fitted, z, tiles=TILES, **options)
     n_cols = TILES[1] // 2
     tile_shares = {name: {"left": float(tiles.outside[:, :n_cols, k].mean()),
@@ -145,6 +164,7 @@ def held_out_case(kind, index, *, shape=SHAPE, n_simulations=19, n_models=9, see
             "fitted": {k: float(v) for k, v in fitted.hyperparameters.items()},
             "truth_right": {k: float(v) for k, v in truth_right.hyperparameters.items()},
             "outside": outside, "tiles": tile_shares,
+            **({"sandwich_refused": refused} if refused else {}),
             "seconds": round(time.perf_counter() - began, 2)}
 
 
@@ -196,6 +216,33 @@ def shares_table(records, names=("Sq", "Sa", "Sk", "Sal", "Str", "Std"),
             if s is not None:
                 lines.append(f"| {kind} | {label} | "
                              + " | ".join(f"{s[n]:.0%}" for n in TILE_PARAMETERS) + " |")
+    return "\n".join(lines)
+
+
+def calibration_table(records, *, kinds=("stationary", "holes"), variants=VARIANTS,
+                      names=SURFACE_PARAMETERS, likelihood="blocks") -> str:
+    """A Markdown table of the check's level where the model's family describes the surface:
+    per variant (rows) and parameter (columns), the share of ``kinds``' cases outside with its
+    95 % Wilson interval (``scipy.stats.binomtest``: unlike a normal interval, not empty at 0
+    of n) and the verdict on 10 % +- 3 % (:func:`~roughgp.checking.ranks.verdict_within`: yes,
+    no or ? undecided)."""
+    from scipy.stats import binomtest
+    head = ["check", "cases", *names]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    mark = {"yes": "yes", "no": "no", "undecided": "?"}
+    for variant in variants:
+        rows = [r for r in records if r["kind"] in kinds and variant in r["outside"]
+                and _fitted_by(r) == likelihood]
+        if len(rows) < 2:
+            continue
+        cells = []
+        for name in names:
+            k = sum(name in r["outside"][variant] for r in rows)
+            interval = binomtest(k, len(rows)).proportion_ci(0.95, method="wilson")
+            share, low, high = k / len(rows), interval.low, interval.high
+            cells.append(f"{share:.0%} [{low:.0%}, {high:.0%}] "
+                         f"{mark[verdict_within(low, high)]}")
+        lines.append(f"| {variant} | {len(rows)} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
 

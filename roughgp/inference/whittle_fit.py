@@ -60,7 +60,7 @@ from roughgp.common.grid import normalize
 from roughgp.models.surfaces import GrooveParameters
 
 __all__ = ["EXCLUDED_LOWEST", "MIN_POINTS", "FAR_BEYOND", "WhittleFit", "WhittleLikelihood",
-           "fit_whittle", "robust_covariance"]
+           "fit_whittle", "implied_fit", "robust_covariance"]
 
 #: frequencies excluded around zero: ``|k_y| <= 1`` and ``|k_x| <= 1`` (the mean, the plane)
 EXCLUDED_LOWEST = 1
@@ -204,6 +204,18 @@ class WhittleLikelihood:
         hessian = torch.autograd.functional.hessian(value, self._parameters(u))
         return -hessian.detach().cpu().numpy()
 
+    def expected_information(self, u) -> np.ndarray:
+        r"""The expected (Fisher) information :math:`E[-\nabla^2_u \ell_W]` at ``u`` (5 x 5):
+        the observed information of a periodogram equal to its expectation :math:`\bar I(u)`,
+        where the Hessian reduces to :math:`\sum_k \nabla\log\bar I_k\,\nabla\log\bar
+        I_k^\top`. It needs no heights: a model's own information on this grid and mask."""
+        torch = self._torch
+        copy = object.__new__(type(self))
+        copy.__dict__.update(self.__dict__)
+        with torch.no_grad():
+            copy.periodogram = self.expected(self._parameters(u))
+        return copy.information(u)
+
     def value(self, u) -> float:
         torch = self._torch
         with torch.no_grad():
@@ -292,6 +304,26 @@ def fit_whittle(z, *, spacing=1.0, mask=None, nu=0.5, maxiter=500, device=None) 
     return WhittleFit(GrooveParameters(variance, (float(lam_a), float(lam_b)), angle), noise,
                       mean, float(-best.fun), int(valid.sum()), likelihood.n_frequencies, nu,
                       u, covariance)
+
+
+def implied_fit(groove: GrooveParameters, noise_variance, valid, spacing=1.0, *, nu=0.5,
+                device=None) -> WhittleFit:
+    """The :class:`WhittleFit` that eq 18 of ``groove`` plus ``noise_variance`` implies on the
+    grid of measured points ``valid``: its ``u`` and, as its ``covariance``, the inverse of the
+    expected information there (:meth:`WhittleLikelihood.expected_information`; NaN where it
+    is not positive definite). For :func:`robust_covariance` of a model whose fitted heights
+    are not at hand (a model file: its fitted grid, ``data.shape``, without its holes)."""
+    valid = boolean_map(valid, np.shape(valid))
+    _, spacing = normalize(valid.shape, spacing)
+    if not (noise_variance > 0 and groove.variance > 0 and min(groove.lengthscales) > 0):
+        raise ValueError(f"the variance, the lengths and noise_variance must be > 0, got "
+                         f"{groove.variance!r}, {groove.lengthscales!r}, {noise_variance!r}")
+    u = (math.log(groove.variance), math.log(groove.lengthscales[0]),
+         math.log(groove.lengthscales[1]), float(groove.angle), math.log(noise_variance))
+    likelihood = WhittleLikelihood(np.zeros(valid.shape), valid, spacing, nu, device)
+    covariance = _inverse_information(likelihood.expected_information(u))
+    return WhittleFit(groove, float(noise_variance), 0.0, math.nan, int(valid.sum()),
+                      likelihood.n_frequencies, nu, u, covariance)
 
 
 def robust_covariance(fit: WhittleFit, valid, spacing=1.0, *, n_draws=40, seed=0,

@@ -7,7 +7,13 @@ A region's parameters are :math:`u = \hat\mu + s\,t_{k-2}` per parameter (log va
 lengths, the lay angle; Student's :math:`t` with :math:`k - 2` degrees of freedom for
 :math:`k` regions, at least 1, cut at
 :data:`~roughgp.surface_models.height_bound.EXTREME_SCORE`), the lengths held within the
-schema's range of the spacing; its surface is eq 18 (circulant embedding,
+schema's range of the spacing and within :data:`~roughgp.inference.whittle_fit.FAR_BEYOND`
+times the drawn grid's longer side. Why the last: with few regions the :math:`t` has 1 or 2
+degrees of freedom, and a score of 6 on a log length's spread of 0.7 makes a length 70 times
+the pooled one; the fit never takes a region's length that far beyond its grid (it cannot
+identify it, :mod:`~roughgp.surface_models.in_range`), and drawing one means embedding a torus
+of that size: minutes, or no embedding at all. Within the cap such a draw is what the grid can
+show of it, a field close to a plane (the F-operator's and the L-filter's share); its surface is eq 18 (circulant embedding,
 :func:`roughgp.sampling.sample_grid`) plus the model's noise (eq 8).
 """
 
@@ -27,16 +33,19 @@ __all__ = ["SPREAD_NAMES", "region_parameters", "draw_population_model"]
 SPREAD_NAMES = ("log_variance_sd", "log_lambda_a_sd", "log_lambda_b_sd", "angle_sd_deg")
 
 
-def region_parameters(hyperparameters, spacing, rng, count) -> list[dict]:
+def region_parameters(hyperparameters, spacing, rng, count, longest=None) -> list[dict]:
     """``count`` regions drawn from the population of ``hyperparameters`` (an eq18-population
     model's): each eq 18's ``variance_um2``, ``lambda_a_um``, ``lambda_b_um``, ``angle_deg``
-    and ``noise_variance_um2`` (module docstring)."""
+    and ``noise_variance_um2`` (module docstring); ``longest``: None or the largest length
+    drawn (um)."""
     hp = hyperparameters
     centre = np.array([math.log(hp["variance_um2"]), math.log(hp["lambda_a_um"]),
                        math.log(hp["lambda_b_um"]), math.radians(hp["angle_deg"])])
     spread = np.array([hp[name] for name in SPREAD_NAMES], dtype=np.float64)
     spread[3] = math.radians(spread[3])
     low, high = 1e-3 * min(spacing), 1e7 * max(spacing)
+    if longest is not None:
+        high = max(min(high, float(longest)), low)
     df = max(int(hp["regions"]) - 2, 1)
     scores = np.clip(rng.standard_t(df, size=(count, 4)), -EXTREME_SCORE, EXTREME_SCORE)
     return [{"variance_um2": float(np.exp(u[0])),
@@ -51,9 +60,12 @@ def draw_population_model(model, shape, spacing, rng, count) -> np.ndarray:
     """``count`` surfaces of ``shape`` at ``spacing`` from the eq18-population ``model``, each
     of its own region (:func:`region_parameters`): ``(count, *shape)``."""
     from roughgp.gp.kernels import RotatedExponentialKernel
+    from roughgp.inference.whittle_fit import FAR_BEYOND
     from roughgp.sampling import sample_grid
+    steps = np.broadcast_to(np.asarray(spacing, dtype=np.float64), (2,))
+    longest = FAR_BEYOND * max(n * d for n, d in zip(shape, steps))
     draws = []
-    for region in region_parameters(model.hyperparameters, model.spacing, rng, count):
+    for region in region_parameters(model.hyperparameters, model.spacing, rng, count, longest):
         kernel = RotatedExponentialKernel(region["variance_um2"],
                                           (region["lambda_a_um"], region["lambda_b_um"]),
                                           math.radians(region["angle_deg"]))

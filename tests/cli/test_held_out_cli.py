@@ -79,12 +79,28 @@ def test_check_part_and_predictive(capsys, left_fit):
     (("--part", "middle"), "--part must be one of left, right, top, bottom"),
     (("--tiles", 3, 1), "--tiles must be (m, n) with m in [1, 2] and n in [1, 4]"),
     (("--predictive", 100), "--predictive must be in [1, 99]"),
+    (("--predictive-from", "sandwich"), "give --predictive B too"),
+    (("--predictive", 2, "--predictive-from", "delta"), "--predictive-from: invalid choice"),
 ])
 def test_bad_out_of_sample_options_are_refused_before_any_work(capsys, left_fit, options,
                                                                words):
     code, _, err = _run(capsys, "check", left_fit / "left.json", left_fit / "map.npy", *options)
     assert code == 2 and words in err, err
     assert "simulating" not in err
+
+
+def test_check_predictive_from_the_sandwich_draws_no_refits(capsys, left_fit):
+    code, text, err = _run(capsys, "check", left_fit / "left.json", left_fit / "map.npy",
+                           "--held-out", "--predictive", 5, "--predictive-from", "sandwich",
+                           "--simulations", 9)
+    assert code == 0, err
+    assert "against 9 predictive (sandwich) simulations" in text
+    assert "drawing 5 parameter sets of the model from its Whittle sandwich covariance on the " \
+           "fitted 32 x 32 grid" in err
+    assert "refitted" not in err
+    again = _run(capsys, "check", left_fit / "left.json", left_fit / "map.npy", "--held-out",
+                 "--predictive", 5, "--predictive-from", "sandwich", "--simulations", 9)
+    assert again[1] == text
 
 
 def test_held_out_needs_a_model_fitted_on_a_part(capsys, left_fit, tmp_path):

@@ -48,3 +48,25 @@ def test_one_case_end_to_end_and_its_table():
     assert "| stationary | held-out | 10 | 2% | 30% |" in table
     assert "| stationary | held-out half | 25% |" in table
     assert "| gradient | in-sample | 1 |" in table
+
+
+def test_the_sandwich_variant_needs_a_whittle_fit_and_is_recorded():
+    with pytest.raises(ValueError, match="sandwich=True needs likelihood='whittle'"):
+        held_out_case("stationary", 0, shape=(32, 64), n_models=0, sandwich=True)
+    record = held_out_case("stationary", 1, shape=(32, 64), n_simulations=9, n_models=0,
+                           likelihood="whittle", sandwich=True)
+    assert "predictive-sandwich" in record["outside"] or record["sandwich_refused"]
+    assert set(record["outside"]) >= {"in-sample", "held-out", "held-out-true"}
+
+
+def test_the_calibration_table_gives_each_share_an_interval_and_a_verdict():
+    from roughgp.experiments.held_out import calibration_table
+    fake = [{"kind": "stationary" if i % 2 else "holes", "likelihood": "whittle",
+             "outside": {"held-out": ["Sq"] if i < 60 else [],
+                         "held-out-true": ["Sq"] if i % 10 == 0 else []}}
+            for i in range(200)]
+    fake.append({"kind": "gradient", "likelihood": "whittle", "outside": {"held-out": ["Sq"]}})
+    table = calibration_table(fake, names=("Sq", "Sa"), likelihood="whittle")
+    assert "| held-out | 200 | 30% [24%, 37%] no | 0% [0%, 2%] no |" in table
+    assert "| held-out-true | 200 | 10% [7%, 15%] ? |" in table
+    assert "in-sample" not in table

@@ -79,6 +79,24 @@ def test_each_draw_is_its_own_region_and_the_seed_repeats_them(differing):
     assert np.std(log_var) > 0.8 * model.hyperparameters["log_variance_sd"]
 
 
+def test_few_regions_never_draw_a_length_far_beyond_the_grid(differing):
+    """Four regions: t with 2 degrees of freedom, and a wide spread of the log lengths. A draw
+    of 80 times the pooled length needed a torus of minutes (or none); the lengths drawn stay
+    within FAR_BEYOND times the grid's longer side, and every draw comes back."""
+    from roughgp.inference.whittle_fit import FAR_BEYOND
+    hp = {**differing.model.hyperparameters, "regions": 4, "log_lambda_a_sd": 1.0,
+          "log_lambda_b_sd": 1.0}
+    free = region_parameters(hp, (1.0, 1.0), np.random.default_rng(2), 400)
+    held = region_parameters(hp, (1.0, 1.0), np.random.default_rng(2), 400, longest=64.0)
+    assert max(r["lambda_a_um"] for r in free) > 64.0  # what the cap is for
+    assert max(r["lambda_a_um"] for r in held) == 64.0
+    assert [r["variance_um2"] for r in held] == [r["variance_um2"] for r in free]
+    model = FittedModel.from_dict({**differing.model.to_dict(), "hyperparameters": hp})
+    draws = model.simulate((16, 16), seed=2, n_samples=60)
+    assert draws.shape == (60, 16, 16) and np.isfinite(draws).all()
+    assert FAR_BEYOND * 16 == 64.0
+
+
 def test_the_model_file_round_trips_and_refuses_spoiled_fields(differing, tmp_path):
     path = differing.model.save(tmp_path / "population.json")
     again = FittedModel.load(path)

@@ -1,0 +1,104 @@
+"""roughgp.checking.sandwich_draws (issue 40, item 2): predictive simulations whose eq 18
+parameters are drawn from the Whittle fit's sandwich covariance, without refits."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from roughgp.checking.sandwich_draws import CLIP_SD, sandwich_models
+from roughgp.inference.whittle_fit import robust_covariance
+from roughgp.surface_models.fit import fit_surface_model
+from roughgp.surface_models.model import FittedModel
+
+
+@pytest.fixture(scope="module")
+def whittle():
+    truth = FittedModel("eq18", {"variance_um2": 1.0, "lambda_a_um": 6.0, "lambda_b_um": 3.0,
+                                 "angle_deg": 20.0, "noise_variance_um2": 0.01}, (1.0, 1.0))
+    z = truth.simulate((64, 64), seed=3)
+    return fit_surface_model(z, 1.0, likelihood="whittle")
+
+
+def _valid(result):
+    return np.isfinite(result.texture.sl)
+
+
+def test_draws_are_seeded_eq18_models_spread_as_the_sandwich_says(whittle):
+    model, fit = whittle.model, whittle.block_fit
+    drawn = sandwich_models(model, fit, _valid(whittle), 400, seed=5).models
+    again = sandwich_models(model, fit, _valid(whittle), 400, seed=5).models
+    other = sandwich_models(model, fit, _valid(whittle), 400, seed=6).models
+    assert [m.hyperparameters for m in drawn] == [m.hyperparameters for m in again]
+    assert [m.hyperparameters for m in drawn] != [m.hyperparameters for m in other]
+    assert all(m.equation == "eq18" and m.cutoffs == model.cutoffs for m in drawn)
+    assert all(m.hyperparameters["lambda_a_um"] >= m.hyperparameters["lambda_b_um"]
+               for m in drawn)
+    assert all(-90.0 <= m.hyperparameters["angle_deg"] < 90.0 for m in drawn)
+    sigma = robust_covariance(fit, _valid(whittle), model.spacing, n_draws=40,
+                              seed=np.random.default_rng(5))
+    log_variance = np.log([m.hyperparameters["variance_um2"] for m in drawn])
+    centre = math.log(model.hyperparameters["variance_um2"])
+    sd = math.sqrt(sigma[0, 0])
+    assert abs(np.mean(log_variance) - centre) < 0.2 * sd
+    assert 0.8 * sd < np.std(log_variance) < 1.1 * sd  # a little under: clipped at 3 sd
+    assert np.max(np.abs(log_variance - centre)) <= CLIP_SD * sd + 1e-12
+
+
+def test_the_draws_centre_on_the_model_as_adjusted_not_on_the_raw_fit(whittle):
+    hp = {**whittle.model.hyperparameters, "variance_um2": 4.0}
+    moved = dataclasses.replace(whittle.model, hyperparameters=hp)
+    drawn = sandwich_models(moved, whittle.block_fit, _valid(whittle), 200, seed=1).models
+    assert np.median([m.hyperparameters["variance_um2"] for m in drawn]) == pytest.approx(
+        4.0, rel=0.1)
+
+
+def test_what_cannot_be_drawn_this_way_is_refused(whittle):
+    blocks = fit_surface_model(np.asarray(whittle.texture.sl), 1.0, block=16, n_blocks=4)
+    with pytest.raises(ValueError, match="fit must be the WhittleFit"):
+        sandwich_models(blocks.model, blocks.block_fit, _valid(whittle), 3)
+    with pytest.raises(ValueError, match="model must be an eq 18 surface model"):
+        sandwich_models({"equation": "eq18"}, whittle.block_fit, _valid(whittle), 3)
+    for bad in (0, 1000, 2.5, True):
+        with pytest.raises(ValueError, match=r"n_models must be an integer >= 1 and <= 999"):
+            sandwich_models(whittle.model, whittle.block_fit, _valid(whittle), bad)
+    with pytest.raises(ValueError, match="seed must be an integer >= 0"):
+        sandwich_models(whittle.model, whittle.block_fit, _valid(whittle), 3, seed=-1)
+    undetermined = dataclasses.replace(whittle.block_fit,
+                                       covariance=np.full((5, 5), np.nan))
+    with pytest.raises(ValueError, match="sandwich covariance is not finite"):
+        sandwich_models(whittle.model, undetermined, _valid(whittle), 3)
+
+
+def test_a_model_alone_gives_draws_close_to_those_of_its_fit(whittle):
+    """fit=None (a model file, no heights): the expected information of the model on its grid
+    in place of the fit's observed information; the spreads agree within a factor 1.5."""
+    from roughgp.inference.whittle_fit import implied_fit
+    model = whittle.model
+    full = np.ones(model.data["shape"], dtype=bool)
+    hp = model.hyperparameters
+    implied = implied_fit(whittle.block_fit.groove, hp["noise_variance_um2"], full)
+    se_implied = np.sqrt(np.diag(implied.covariance))
+    se_fit = np.sqrt(np.diag(whittle.block_fit.covariance))
+    assert np.all(se_implied / se_fit > 1 / 1.5) and np.all(se_implied / se_fit < 1.5)
+    alone = sandwich_models(model, None, full, 300, seed=2).models
+    fitted = sandwich_models(model, whittle.block_fit, _valid(whittle), 300, seed=2).models
+    for name in ("variance_um2", "lambda_a_um"):
+        a = np.std(np.log([m.hyperparameters[name] for m in alone]))
+        b = np.std(np.log([m.hyperparameters[name] for m in fitted]))
+        assert 1 / 1.5 < a / b < 1.5
+
+
+def test_a_noise_the_map_does_not_determine_is_held_at_the_fit(whittle):
+    """A noise variance of 1e-8 of the surface's: its log's standard error is huge (the
+    likelihood is flat there), and a free draw overflowed; it is held, the rest drawn."""
+    hp = {**whittle.model.hyperparameters, "noise_variance_um2": 1e-8}
+    quiet = dataclasses.replace(whittle.model, hyperparameters=hp)
+    full = np.ones(whittle.model.data["shape"], dtype=bool)
+    drawn = sandwich_models(quiet, None, full, 50, seed=0)
+    assert drawn.held == ("noise_variance_um2",)
+    assert {m.hyperparameters["noise_variance_um2"] for m in drawn.models} == {1e-8}
+    assert len({m.hyperparameters["variance_um2"] for m in drawn.models}) == 50
