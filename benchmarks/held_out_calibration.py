@@ -28,14 +28,8 @@ from pathlib import Path
 
 from roughgp.batch.engine import add_cluster_options, appending_records, on_one_thread, run_cases
 from roughgp.common.atomic import atomic_output
-from roughgp.experiments.held_out import (KINDS, RECORDED, SHAPE, calibration_table,
-                                          held_out_case, load_records, shares_table)
-
-
-def _recorded(shape) -> Path:
-    shape = tuple(shape)
-    return RECORDED if shape == SHAPE else RECORDED.with_name(
-        f"{RECORDED.stem}_{shape[0]}x{shape[1]}.jsonl")
+from roughgp.experiments.held_out import (KINDS, SHAPE, calibration_table, held_out_case,
+                                          load_records, recorded_path, shares_table)
 
 
 def _case(kind, index, shape, n_models, seed, likelihood, sandwich):
@@ -67,7 +61,7 @@ def main(argv=None) -> int:
         parser.error("--sandwich needs --likelihood whittle")
     if min(args.shape) < 32 or args.shape[1] % 2:
         parser.error(f"--shape: NY and NX >= 32 and NX even, got {args.shape}")
-    args.out = args.out or _recorded(args.shape)
+    args.out = args.out or recorded_path(args.shape)
     if args.report:
         records = load_records(args.out)
         sections = []

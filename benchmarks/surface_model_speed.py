@@ -4,7 +4,10 @@
 * ``roughgp simulate --from FIELD.json --shape 1024 1024``: a non-stationary draw (eq18-field,
   fitted with ``--model field --anchors 4 4`` on a 256 x 256 map; target: under 20 s);
 * ``roughgp check MODEL MAP --predictive 9`` on 256 x 256 (target: under 60 s), and the same
-  with ``--held-out`` (both halves checked: about twice the work).
+  with ``--held-out`` (both halves checked: about twice the work);
+* the same held-out check of a model fitted by ``--likelihood whittle``: its predictive
+  simulations from 9 Whittle refits, and from 19 parameter sets of its sandwich covariance
+  (``--predictive-from sandwich``, no refits), side by side.
 
 The maps are eq 18 surfaces drawn by ``roughgp simulate ground`` (seed 1), written to a
 temporary folder. Each command runs once, in series, in a fresh process (its start-up counted);
@@ -61,6 +64,15 @@ def main() -> int:
             ("check --held-out --predictive 9, 256 x 256 (both halves)", None,
              ("check", tmp / "left.json", tmp / "map256.x3p", "--held-out", "--predictive",
               9)),
+            ("fit ground --part left --likelihood whittle, 256 x 256 (setup)", None,
+             ("fit", "ground", tmp / "map256.x3p", "--part", "left", "--likelihood", "whittle",
+              "--out", tmp / "left-whittle.json")),
+            ("check --held-out --predictive 9 (Whittle refits), 256 x 256", None,
+             ("check", tmp / "left-whittle.json", tmp / "map256.x3p", "--held-out",
+              "--predictive", 9)),
+            ("check --held-out --predictive 19 --predictive-from sandwich, 256 x 256", 60,
+             ("check", tmp / "left-whittle.json", tmp / "map256.x3p", "--held-out",
+              "--predictive", 19, "--predictive-from", "sandwich")),
         ]
         for name, target, argv in cases:
             load = os.getloadavg()[0]

@@ -51,9 +51,12 @@ from roughgp.surface_models.model import FittedModel
 
 __all__ = ["KINDS", "VARIANTS", "SHAPE", "TILES", "VARIANCE_SPREAD", "LENGTH_SPREAD",
            "eq18_model", "synthetic_map", "held_out_case",
-           "outside_shares", "shares_table", "calibration_table"]
+           "outside_shares", "shares_table", "DESCRIBED", "recorded_path", "calibration_shares",
+           "calibration_table", "calibration_summary", "summary_markdown", "plot_calibration"]
 
 KINDS = ("stationary", "holes", "hierarchical", "gradient")
+#: the kinds whose every half one eq 18 model describes (the check's level is judged on them)
+DESCRIBED = ("stationary", "holes")
 #: the checks of each case (module docstring); the predictive ones only with n_models > 0
 VARIANTS = ("in-sample", "held-out", "held-out-true", "predictive", "predictive-fit",
             "predictive-sandwich")
@@ -219,31 +222,103 @@ def shares_table(records, names=("Sq", "Sa", "Sk", "Sal", "Str", "Std"),
     return "\n".join(lines)
 
 
-def calibration_table(records, *, kinds=("stationary", "holes"), variants=VARIANTS,
-                      names=SURFACE_PARAMETERS, likelihood="blocks") -> str:
-    """A Markdown table of the check's level where the model's family describes the surface:
-    per variant (rows) and parameter (columns), the share of ``kinds``' cases outside with its
-    95 % Wilson interval (``scipy.stats.binomtest``: unlike a normal interval, not empty at 0
-    of n) and the verdict on 10 % +- 3 % (:func:`~roughgp.checking.ranks.verdict_within`: yes,
-    no or ? undecided)."""
+def recorded_path(shape=SHAPE) -> Path:
+    """The recorded run of maps of ``shape``: :data:`RECORDED` for the default shape, else
+    ``held_out_calibration_<ny>x<nx>.jsonl`` beside it."""
+    shape = tuple(int(n) for n in shape)
+    return RECORDED if shape == SHAPE else RECORDED.with_name(
+        f"{RECORDED.stem}_{shape[0]}x{shape[1]}.jsonl")
+
+
+def calibration_shares(records, *, kinds=DESCRIBED, variants=VARIANTS,
+                       names=SURFACE_PARAMETERS, likelihood="blocks") -> dict:
+    """``{variant: {parameter: (share, low, high, verdict)}}`` over ``kinds``' cases (those the
+    model's family describes) fitted with ``likelihood``, plus ``"cases"`` per variant: the
+    share outside with its 95 % Wilson interval (``scipy.stats.binomtest``: unlike a normal
+    interval, not empty at 0 of n) and the verdict on 10 % +- 3 %
+    (:func:`~roughgp.checking.ranks.verdict_within`: yes, no or undecided). Variants with
+    fewer than 2 cases are left out."""
     from scipy.stats import binomtest
-    head = ["check", "cases", *names]
-    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
-    mark = {"yes": "yes", "no": "no", "undecided": "?"}
+    out = {}
     for variant in variants:
         rows = [r for r in records if r["kind"] in kinds and variant in r["outside"]
                 and _fitted_by(r) == likelihood]
         if len(rows) < 2:
             continue
-        cells = []
+        shares = {"cases": len(rows)}
         for name in names:
             k = sum(name in r["outside"][variant] for r in rows)
             interval = binomtest(k, len(rows)).proportion_ci(0.95, method="wilson")
-            share, low, high = k / len(rows), interval.low, interval.high
-            cells.append(f"{share:.0%} [{low:.0%}, {high:.0%}] "
-                         f"{mark[verdict_within(low, high)]}")
-        lines.append(f"| {variant} | {len(rows)} | " + " | ".join(cells) + " |")
+            shares[name] = (k / len(rows), interval.low, interval.high,
+                            verdict_within(interval.low, interval.high))
+        out[variant] = shares
+    return out
+
+
+def calibration_table(records, *, kinds=DESCRIBED, variants=VARIANTS,
+                      names=SURFACE_PARAMETERS, likelihood="blocks") -> str:
+    """A Markdown table of :func:`calibration_shares`: per variant (rows) and parameter
+    (columns), the share outside, its 95 % interval and the verdict (yes, no or ?)."""
+    head = ["check", "cases", *names]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    mark = {"yes": "yes", "no": "no", "undecided": "?"}
+    for variant, shares in calibration_shares(records, kinds=kinds, variants=variants,
+                                              names=names, likelihood=likelihood).items():
+        cells = [f"{shares[n][0]:.0%} [{shares[n][1]:.0%}, {shares[n][2]:.0%}] "
+                 f"{mark[shares[n][3]]}" for n in names]
+        lines.append(f"| {variant} | {shares['cases']} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
+
+
+def calibration_summary(records, *, kinds=DESCRIBED, variants=VARIANTS,
+                        names=SURFACE_PARAMETERS, likelihood="blocks") -> list[dict]:
+    """Per variant of :func:`calibration_shares`: its cases, the share outside averaged over
+    ``names``, and how many parameters are within 10 % +- 3 % (``yes``), beyond it (``no``)
+    or undecided, and which are beyond (``beyond``)."""
+    rows = []
+    for variant, shares in calibration_shares(records, kinds=kinds, variants=variants,
+                                              names=names, likelihood=likelihood).items():
+        verdicts = [shares[n][3] for n in names]
+        rows.append({"check": variant, "cases": shares["cases"],
+                     "mean": float(np.mean([shares[n][0] for n in names])),
+                     "yes": verdicts.count("yes"), "undecided": verdicts.count("undecided"),
+                     "no": verdicts.count("no"),
+                     "beyond": [n for n in names if shares[n][3] == "no"]})
+    return rows
+
+
+def summary_markdown(summary) -> str:
+    """A Markdown table of :func:`calibration_summary`'s rows (one line per check)."""
+    lines = ["| check | cases | mean of 13 | within 10 % ± 3 % | undecided | beyond | beyond it |",
+             "|---|---|---|---|---|---|---|"]
+    for row in summary:
+        lines.append(f"| {row['check']} | {row['cases']} | {row['mean']:.1%} | {row['yes']} | "
+                     f"{row['undecided']} | {row['no']} | {', '.join(row['beyond']) or '-'} |")
+    return "\n".join(lines)
+
+
+def plot_calibration(records, *, kinds=DESCRIBED, variants=VARIANTS, names=SURFACE_PARAMETERS,
+                     likelihood="blocks"):
+    """Per parameter, each variant's share of ``kinds``' cases outside with its 95 % interval
+    (:func:`calibration_shares`), over the band 10 % +- 3 %. Returns the figure."""
+    import matplotlib.pyplot as plt
+    shares = calibration_shares(records, kinds=kinds, variants=variants, names=names,
+                                likelihood=likelihood)
+    fig, ax = plt.subplots(figsize=(7.6, 3.2), constrained_layout=True)
+    ax.axhspan(7, 13, color="0.9", label="10 % ± 3 %")
+    x = np.arange(len(names))
+    width = 0.8 / max(len(shares), 1)
+    for v, (variant, s) in enumerate(shares.items()):
+        at = x + (v - (len(shares) - 1) / 2) * width
+        mid = np.array([100 * s[n][0] for n in names])
+        err = np.array([[100 * (s[n][0] - s[n][1]) for n in names],
+                        [100 * (s[n][2] - s[n][0]) for n in names]])
+        ax.errorbar(at, mid, yerr=err, fmt="o", ms=3, lw=0.8, capsize=1.5,
+                    label=f"{variant} ({s['cases']})")
+    ax.set_xticks(x, names, rotation=45)
+    ax.set_ylabel("cases outside (%)")
+    ax.legend(fontsize=7, ncol=3, loc="upper left")
+    return fig
 
 
 def load_records(path=RECORDED) -> list:
@@ -258,6 +333,9 @@ def plot_outside_shares(records, names=("mean", "Sq"), variants=VARIANTS, likeli
     fitted with ``likelihood``), and the check's level 2 / (n + 1). Returns the figure."""
     import matplotlib.pyplot as plt
     level = 2.0 / (records[0]["n_simulations"] + 1)
+    variants = [v for v in variants if any(outside_shares(records, kind, v,
+                                                          likelihood=likelihood)
+                                           for kind in KINDS)]
     fig, axes = plt.subplots(1, len(names), figsize=(7.6, 3.0), sharey=True,
                              constrained_layout=True)
     axes = np.atleast_1d(axes)

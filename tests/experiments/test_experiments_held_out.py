@@ -70,3 +70,11 @@ def test_the_calibration_table_gives_each_share_an_interval_and_a_verdict():
     assert "| held-out | 200 | 30% [24%, 37%] no | 0% [0%, 2%] no |" in table
     assert "| held-out-true | 200 | 10% [7%, 15%] ? |" in table
     assert "in-sample" not in table
+    from roughgp.experiments.held_out import (calibration_summary, plot_calibration,
+                                              summary_markdown)
+    summary = calibration_summary(fake, names=("Sq", "Sa"), likelihood="whittle")
+    assert [(r["check"], r["cases"], r["no"], r["undecided"], r["beyond"]) for r in summary] == \
+        [("held-out", 200, 2, 0, ["Sq", "Sa"]), ("held-out-true", 200, 1, 1, ["Sa"])]
+    assert "| held-out | 200 | 15.0% | 0 | 0 | 2 | Sq, Sa |" in summary_markdown(summary)
+    fig = plot_calibration(fake, names=("Sq", "Sa"), likelihood="whittle")
+    assert len(fig.axes[0].get_legend().get_texts()) == 3  # the band and two checks
