@@ -78,3 +78,10 @@ def test_the_calibration_table_gives_each_share_an_interval_and_a_verdict():
     assert "| held-out | 200 | 15.0% | 0 | 0 | 2 | Sq, Sa |" in summary_markdown(summary)
     fig = plot_calibration(fake, names=("Sq", "Sa"), likelihood="whittle")
     assert len(fig.axes[0].get_legend().get_texts()) == 3  # the band and two checks
+
+
+def test_two_hundred_cases_cannot_show_a_share_within_10_percent_plus_minus_3():
+    from roughgp.experiments.held_out import cases_to_decide
+    needed = cases_to_decide()
+    assert 400 < needed < 1000
+    assert cases_to_decide(0.1, 0.05) <= 200 < needed
