@@ -250,23 +250,35 @@ def _fit_profile(heights, options, seed, data, folder):
 def _check(path, heights, model_path, options, seed, folder):
     """``roughgp check MODEL.json FILE --seed SEED`` (the model file read back, as there); for
     a model fitted on a part (``--part``), ``check --held-out``: the fitted part and the other
-    half, the latter recorded as ``held_out``."""
+    half, the latter recorded as ``held_out``; with ``predictive`` (B) the simulations drawn
+    from B models of :func:`~roughgp.checking.predictive.predictive_models` (``predictive_from``:
+    refits or sandwich), recorded in the check's entry."""
     from roughgp.api import check
     from roughgp.surface_models.model import FittedModel
     model = FittedModel.load(model_path)
     spacing = heights.spacing if model.kind == "surface" else (heights.spacing[-1],)
     n = options.get("simulations", 19)
+    models, held = None, ()
+    if options.get("predictive"):
+        from roughgp.checking.predictive import predictive_models
+        models, held = predictive_models(model, options["predictive"],
+                                         source=options.get("predictive_from", "refits"),
+                                         seed=seed)
     part = model.data.get("part") if isinstance(model.data, dict) else None
     if part is not None and model.kind == "surface":
         from roughgp.checking.held_out import Part, held_out_check
         both = held_out_check(model, heights.z, spacing, fitted_part=Part.from_dict(part),
-                              n_simulations=n, seed=seed)
+                              n_simulations=n, seed=seed, models=models)
         result = both.fitted
         entries = {"check": _check_entry(both.fitted, n, both.fitted_part),
                    "held_out": _check_entry(both.held_out, n, both.held_out_part)}
     else:
-        result = check(model, heights.z, spacing, n_simulations=n, seed=seed)
+        result = check(model, heights.z, spacing, n_simulations=n, seed=seed, models=models)
         entries = {"check": _check_entry(result, n)}
+    if models is not None:
+        entries["check"]["predictive"] = {"models": len(models),
+                                          "from": options.get("predictive_from", "refits"),
+                                          "held": list(held)}
     if options.get("plot"):
         import matplotlib
         matplotlib.use("Agg")

@@ -11,7 +11,9 @@ model's ``model`` (the rung: ``eq18``, ``eq18-matern``, ``sm2d``, ``measured-psd
 ``fit.NAME`` (lists as JSON text), ``model_file``, ``part`` (the half fitted, ``--part``); the
 check's ``check_outside`` (the parameters outside the simulated range, comma-separated),
 ``check_count`` (how many) and, per parameter, ``check.NAME.rank`` and ``check.NAME.outside``
-(with ``--part``: on the fitted half; the same columns ``held_out*`` on the other half);
+(with ``--part``: on the fitted half; the same columns ``held_out*`` on the other half),
+``check_simulations`` (``predictive (refits)`` or ``predictive (sandwich)`` with
+``--predictive``; empty: plug-in);
 ``filled``, ``filled_file``, ``simulated_file``; the timings ``seconds.STEP`` and
 ``seconds.total``. A column a file does not have is empty (null).
 """
@@ -60,6 +62,9 @@ def _row(record: dict) -> dict:
             for name, p in check.get("parameters", {}).items():
                 row[f"{key}.{name}.rank"] = p.get("rank")
                 row[f"{key}.{name}.outside"] = p.get("outside")
+    predictive = (record.get("check") or {}).get("predictive")
+    if predictive:
+        row["check_simulations"] = f"predictive ({predictive.get('from')})"
     fill = record.get("fill")
     if fill:
         row.update(filled=fill.get("filled"), filled_file=fill.get("file"))

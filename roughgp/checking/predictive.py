@@ -36,10 +36,13 @@ import numpy as np
 from roughgp.checking.calibrated import refit_like, refusal
 from roughgp.surface_models.model import FittedModel
 
-__all__ = ["MAX_MODELS", "CENTRES", "bootstrap_models", "recentred", "predictive_refusal",
-           "fitted_shape"]
+__all__ = ["MAX_MODELS", "CENTRES", "SOURCES", "bootstrap_models", "recentred",
+           "predictive_refusal", "fitted_shape", "predictive_models"]
 
 MAX_MODELS = 99  #: the most bootstrap refits (each a fit)
+#: where the predictive models come from: bootstrap refits (:func:`bootstrap_models`), or
+#: parameter sets of the Whittle sandwich covariance (:mod:`roughgp.checking.sandwich_draws`)
+SOURCES = ("refits", "sandwich")
 #: where the predictive draws are centred: as refitted, on the fit, or on the bias-corrected fit
 CENTRES = ("refits", "fit", "bias-corrected")
 #: the positive scale parameters recentred (in logs) by :func:`recentred`, per equation
@@ -142,3 +145,33 @@ def bootstrap_models(model: FittedModel, n_models, *, shape=None, spacing=None, 
         if progress is not None:
             progress(b + 1, int(n_models))
     return recentred(model, refits, centre)
+
+
+def predictive_models(model: FittedModel, n_models, *, source="refits", seed=0,
+                      progress=None) -> tuple[tuple, tuple]:
+    """``(models, held)``: the ``n_models`` models the predictive simulations draw from in turn
+    (``check_model(..., models=...)``), from ``source`` (:data:`SOURCES`):
+
+    - ``"refits"``: :func:`bootstrap_models` (bias-corrected; any rung the calibrated check
+      refits); ``held`` is empty;
+    - ``"sandwich"``: eq 18 parameter sets from the Whittle sandwich covariance of the model on
+      its fitted grid (:func:`~roughgp.checking.sandwich_draws.sandwich_models` with the
+      expected information: the model file keeps no heights), no refits; ``held``: the
+      hyperparameters the grid does not determine, kept at the fit.
+
+    ``progress``: as :func:`bootstrap_models` (refits only). Raises ValueError saying why the
+    model cannot be drawn so.
+    """
+    if source not in SOURCES:
+        raise ValueError(f"source must be one of {', '.join(SOURCES)}, got {source!r}")
+    shape = fitted_shape(model, None)
+    if shape is None:
+        raise ValueError("the model file records no fitted shape (data.shape): its "
+                         + ("sandwich" if source == "sandwich" else "bootstrap measurements")
+                         + " have no grid")
+    if source == "refits":
+        return bootstrap_models(model, n_models, shape=shape, seed=seed,
+                                progress=progress), ()
+    from roughgp.checking.sandwich_draws import sandwich_models
+    drawn = sandwich_models(model, None, np.ones(shape, dtype=bool), n_models, seed=seed)
+    return drawn.models, drawn.held

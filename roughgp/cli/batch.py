@@ -177,6 +177,13 @@ def add_parser(sub, formatter) -> None:
     c.add_argument("--simulations", type=integer("--simulations"), default=19, metavar="N",
                    help=f"check: simulations of the model, {bounds_text('--simulations')} "
                         f"(default 19)")
+    c.add_argument("--predictive", type=integer("--predictive"), metavar="B",
+                   help=f"check: draw the simulations from B models that carry the fit's "
+                        f"uncertainty, {bounds_text('--predictive')} (default: the plug-in "
+                        f"model)")
+    c.add_argument("--predictive-from", choices=("refits", "sandwich"), default="refits",
+                   help="check: the models of --predictive: bootstrap refits, or eq 18 "
+                        "parameter sets of the Whittle sandwich covariance (as 'roughgp check')")
     c.add_argument("--plots", action="store_true",
                    help="check: also write each file's figure (files/NAME/check.png)")
     c.add_argument("--fill-method", choices=("local", "global"), default="local",
@@ -215,7 +222,10 @@ def plan_of(args):
                        "candidates": args.candidates,
                        **({"part": args.part} if args.part else {}),
                        **({"anchors": list(args.anchors)} if args.anchors else {})},
-               "check": {"simulations": args.simulations, "plot": args.plots},
+               "check": {"simulations": args.simulations, "plot": args.plots,
+                         **({"predictive": args.predictive,
+                             "predictive_from": args.predictive_from}
+                            if args.predictive else {})},
                "fill": {"form": args.form, "degree": args.degree, "axis": args.axis,
                         "method": args.fill_method,
                         "nu": args.fill_nu if args.fill_nu == "auto" else float(args.fill_nu),

@@ -163,44 +163,31 @@ def _fitted_part(model, heights, args):
     return part
 
 
-def _sandwich_models(model, args, shape):
-    import numpy as np
-
-    from roughgp.checking.sandwich_draws import sandwich_models
-    err(f"drawing {args.predictive} parameter sets of the model from its Whittle sandwich "
-        f"covariance on the fitted {shape[0]} x {shape[1]} grid (the fit's uncertainty) ...")
-    try:
-        drawn = sandwich_models(model, None, np.ones(shape, dtype=bool), args.predictive,
-                                seed=args.seed)
-    except ValueError as error:
-        raise UsageError(f"--predictive-from sandwich: {args.model}: {error}") from None
-    if drawn.held:
-        err(f"  held at the fit (the fitted grid does not determine them): "
-            f"{', '.join(drawn.held)}")
-    return drawn.models
-
-
 def _predictive_models(model, args, start):
-    from roughgp.checking.predictive import bootstrap_models, fitted_shape, predictive_refusal
-    shape = fitted_shape(model, None)
-    if shape is None:
-        what = "sandwich" if args.predictive_from == "sandwich" else "bootstrap measurements"
-        raise UsageError(f"--predictive: {args.model} records no fitted shape (data.shape): "
-                         f"its {what} have no grid")
-    if args.predictive_from == "sandwich":
-        return _sandwich_models(model, args, shape)
-    why = predictive_refusal(model)
+    from roughgp.checking.predictive import fitted_shape, predictive_models, predictive_refusal
+    refits = args.predictive_from == "refits"
+    option = "--predictive" if refits else f"--predictive-from {args.predictive_from}"
+    why = predictive_refusal(model) if refits else None
     if why:
         raise UsageError(f"--predictive: {args.model}: {why}")
-    err(f"refitting {args.predictive} bootstrap measurements of {shape[0]} x {shape[1]} points "
-        f"drawn from the model (the fit's uncertainty) ...")
+    shape = fitted_shape(model, None)  # None: predictive_models says why
+    if shape is not None and refits:
+        err(f"refitting {args.predictive} bootstrap measurements of {shape[0]} x {shape[1]} "
+            f"points drawn from the model (the fit's uncertainty) ...")
+    elif shape is not None:
+        err(f"drawing {args.predictive} parameter sets of the model from its Whittle sandwich "
+            f"covariance on the fitted {shape[0]} x {shape[1]} grid (the fit's uncertainty) ...")
 
     def progress(b, total):
         err(f"  bootstrap measurement {b}/{total} refitted ({time.perf_counter() - start:.0f} s)")
     try:
-        return bootstrap_models(model, args.predictive, seed=args.seed, progress=progress)
+        models, held = predictive_models(model, args.predictive, source=args.predictive_from,
+                                         seed=args.seed, progress=progress)
     except ValueError as error:
-        raise UsageError(f"--predictive: {error}") from None
+        raise UsageError(f"{option}: {args.model}: {error}") from None
+    if held:
+        err(f"  held at the fit (the fitted grid does not determine them): {', '.join(held)}")
+    return models
 
 
 def run(args) -> int:

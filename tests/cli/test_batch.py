@@ -270,6 +270,47 @@ def test_part_fits_a_half_and_checks_the_half_it_did_not_see(tmp_path, capsys):
                     for name, p in record[batch_key]["parameters"].items()})
 
 
+def test_predictive_sandwich_checks_as_the_single_command_does(tmp_path, capsys):
+    """``--predictive B --predictive-from sandwich``: the check's simulations drawn from B
+    parameter sets, recorded in the row, the numbers of ``check --held-out --predictive B
+    --predictive-from sandwich`` with the file's seed; a rung it cannot draw fails its row."""
+    from roughgp.experiments.held_out import synthetic_map
+    z, _, _ = synthetic_map("stationary", 2, shape=(32, 64))
+    folder = tmp_path / "in"
+    folder.mkdir()
+    np.save(folder / "map.npy", z)
+    out = tmp_path / "out"
+    common = ("--workers", "1", "--steps", "fit,check", "--part", "left", "--l-filter", "none",
+              "--likelihood", "whittle", "--simulations", "9", "--predictive", "5",
+              "--predictive-from", "sandwich")
+    code, _, err = run(capsys, "batch", folder, "--out", out, *common)
+    assert code == 0, err
+    (record,) = _records(out).values()
+    assert record["check"]["predictive"]["models"] == 5
+    assert record["check"]["predictive"]["from"] == "sandwich"
+    (row,) = read_csv_table(out / "table.csv")
+    assert row["check_simulations"] == "predictive (sandwich)"
+    model, checked = tmp_path / "left.json", tmp_path / "held.json"
+    code, _, err = run(capsys, "fit", "ground", folder / "map.npy", "--part", "left",
+                       "--l-filter", "none", "--likelihood", "whittle", "--seed",
+                       record["seed"], "--out", model)
+    assert code == 0, err
+    code, _, err = run(capsys, "check", model, folder / "map.npy", "--held-out", "--seed",
+                       record["seed"], "--simulations", "9", "--predictive", "5",
+                       "--predictive-from", "sandwich", "--json", checked)
+    assert code == 0, err
+    single = json.loads(checked.read_text())
+    assert ({p["name"]: p["rank"] for p in single["held_out"]["parameters"]}
+            == {name: p["rank"] for name, p in record["held_out"]["parameters"].items()})
+    code, _, err = run(capsys, "batch", folder, "--out", tmp_path / "psd", "--workers", "1",
+                       "--steps", "fit,check", "--model", "psd", "--l-filter", "none",
+                       "--simulations", "9", "--predictive", "5", "--predictive-from",
+                       "sandwich")
+    assert code == FAILED_BASE + 1
+    (failed,) = _records(tmp_path / "psd").values()
+    assert "eq 18 surface model" in failed["error"]
+
+
 def test_part_is_a_half_only(tmp_path, capsys):
     code, _, err = run(capsys, "batch", tmp_path, "--out", tmp_path / "o", "--part", "0:8,0:8")
     assert code == 2 and "--part" in err and "left" in err
