@@ -18,7 +18,10 @@ A coordinate whose standard error exceeds :data:`UNDETERMINED_SD` (a factor of 1
 error for the log scales, 45 degrees for the lay) is one the map does not determine (typically
 a noise variance at its lower bound, 1e-8 of the surface's): it is held at the fit and the
 others are drawn from their marginal distribution (the covariance's other rows and columns);
-the draws say which were held. Each other coordinate of :math:`u^*` is held within 3 standard
+where the information is singular there (the fit's observed information, or the expected
+information of a model file), the other coordinates' covariance is that of the information
+over them alone (:func:`~roughgp.inference.whittle_fit.held_inverse`). The draws say which were
+held. Each other coordinate of :math:`u^*` is held within 3 standard
 errors of :math:`\hat u` and each
 length within :data:`~roughgp.inference.whittle_fit.FAR_BEYOND` times the fitted map's longer
 side (beyond it the map says nothing of the length, and drawing it means a huge torus), so a
@@ -36,7 +39,8 @@ from typing import NamedTuple
 import numpy as np
 
 from roughgp.common.checks import as_generator, check_integer
-from roughgp.inference.whittle_fit import FAR_BEYOND, WhittleFit, implied_fit, robust_covariance
+from roughgp.inference.whittle_fit import (FAR_BEYOND, UNDETERMINED_SE, WhittleFit, implied_fit,
+                                           robust_covariance)
 from roughgp.models.surfaces import GrooveParameters
 from roughgp.surface_models.model import FittedModel
 
@@ -46,8 +50,8 @@ __all__ = ["MAX_SANDWICH_MODELS", "CLIP_SD", "UNDETERMINED_SD", "SandwichDraws",
 MAX_SANDWICH_MODELS = 999  #: the most parameter draws
 CLIP_SD = 3.0  #: each drawn coordinate within this many standard errors of the fit
 #: the standard error beyond which a coordinate of u is held at the fit (log variance, log
-#: lengths, angle in radians, log noise)
-UNDETERMINED_SD = (math.log(10.0), math.log(10.0), math.log(10.0), math.pi / 4, math.log(10.0))
+#: lengths, angle in radians, log noise): :data:`~roughgp.inference.whittle_fit.UNDETERMINED_SE`
+UNDETERMINED_SD = UNDETERMINED_SE
 _EQUATIONS = ("eq18", "eq18-matern")
 _NAMES = ("variance_um2", "lambda_a_um", "lambda_b_um", "angle_deg", "noise_variance_um2")
 
@@ -103,6 +107,8 @@ def sandwich_models(model: FittedModel, fit: WhittleFit | None, valid, n_models,
         raise ValueError(f"seed must be an integer >= 0, got {seed!r}")
     valid = np.asarray(valid, dtype=bool)
     rng = as_generator(seed)
+    if fit is not None and not np.all(np.isfinite(fit.covariance)):
+        fit = None  # the observed information is singular: the expected one, held where needed
     if fit is None:
         hp = model.hyperparameters
         groove = GrooveParameters(hp["variance_um2"], (hp["lambda_a_um"], hp["lambda_b_um"]),
@@ -116,7 +122,10 @@ def sandwich_models(model: FittedModel, fit: WhittleFit | None, valid, n_models,
                          "predictive simulations by refits (roughgp.checking.predictive)")
     sigma = 0.5 * (sigma + sigma.T)
     sd = np.sqrt(np.clip(np.diag(sigma), 0.0, None))
-    free = sd <= np.asarray(UNDETERMINED_SD)
+    free = (sd > 0) & (sd <= np.asarray(UNDETERMINED_SD))
+    if not free.any():
+        raise ValueError("the fitted grid determines none of eq 18's parameters: no "
+                         "predictive simulations can be drawn from its sandwich covariance")
     sigma = np.where(np.outer(free, free), sigma, 0.0)
     sd = np.where(free, sd, 0.0)
     values, vectors = np.linalg.eigh(sigma)

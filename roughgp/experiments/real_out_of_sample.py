@@ -51,6 +51,10 @@ class Model:
 MODELS = (
     Model("eq18", ("--model", "eq18", "--likelihood", "whittle"),
           "the paper's eq 18, Gaussian heights, fitted by the Whittle likelihood"),
+    Model("eq18-sandwich", ("--model", "eq18", "--likelihood", "whittle", "--predictive", "19",
+                            "--predictive-from", "sandwich"),
+          "eq 18 as above, its simulations' parameters drawn from the fit's sandwich "
+          "covariance (the fit's uncertainty carried)"),
     Model("auto", ("--model", "auto"),
           "the ladder's choice by held-out prediction (fit ground --model auto)"),
     Model("sm-iaaft", ("--model", "sm", "--marginal", "iaaft"),

@@ -60,7 +60,7 @@ from roughgp.common.grid import normalize
 from roughgp.models.surfaces import GrooveParameters
 
 __all__ = ["EXCLUDED_LOWEST", "MIN_POINTS", "FAR_BEYOND", "WhittleFit", "WhittleLikelihood",
-           "fit_whittle", "implied_fit", "robust_covariance"]
+           "UNDETERMINED_SE", "fit_whittle", "implied_fit", "held_inverse", "robust_covariance"]
 
 #: frequencies excluded around zero: ``|k_y| <= 1`` and ``|k_x| <= 1`` (the mean, the plane)
 EXCLUDED_LOWEST = 1
@@ -68,6 +68,9 @@ MIN_POINTS = 16  #: the fewest rows and columns of a map this fit takes
 #: a length beyond this many times the map's longer side is "far beyond the map": the map does
 #: not identify it (roughgp.surface_models.in_range caps it; robust_covariance gives NaN)
 FAR_BEYOND = 4.0
+#: the standard error of ``u``'s coordinates (log variance, log lengths, angle in radians, log
+#: noise) beyond which the grid does not determine it: a factor of 10 per standard error, 45 deg
+UNDETERMINED_SE = (math.log(10.0), math.log(10.0), math.log(10.0), math.pi / 4, math.log(10.0))
 _NAMES = ("variance", "lambda_a", "lambda_b", "angle", "noise_variance")
 _ANGLE = 3
 # float64 arrays of the (2 ny) x (2 nx) lag grid held at once per likelihood evaluation (lags,
@@ -310,9 +313,11 @@ def implied_fit(groove: GrooveParameters, noise_variance, valid, spacing=1.0, *,
                 device=None) -> WhittleFit:
     """The :class:`WhittleFit` that eq 18 of ``groove`` plus ``noise_variance`` implies on the
     grid of measured points ``valid``: its ``u`` and, as its ``covariance``, the inverse of the
-    expected information there (:meth:`WhittleLikelihood.expected_information`; NaN where it
-    is not positive definite). For :func:`robust_covariance` of a model whose fitted heights
-    are not at hand (a model file: its fitted grid, ``data.shape``, without its holes)."""
+    expected information there (:meth:`WhittleLikelihood.expected_information`), with the
+    coordinates the grid does not determine held (:func:`held_inverse`: their rows and columns
+    0, typically a noise variance at 1e-8 of the surface's, where the information is singular).
+    For :func:`robust_covariance` of a model whose fitted heights are not at hand (a model
+    file: its fitted grid, ``data.shape``, without its holes)."""
     valid = boolean_map(valid, np.shape(valid))
     _, spacing = normalize(valid.shape, spacing)
     if not (noise_variance > 0 and groove.variance > 0 and min(groove.lengthscales) > 0):
@@ -321,7 +326,7 @@ def implied_fit(groove: GrooveParameters, noise_variance, valid, spacing=1.0, *,
     u = (math.log(groove.variance), math.log(groove.lengthscales[0]),
          math.log(groove.lengthscales[1]), float(groove.angle), math.log(noise_variance))
     likelihood = WhittleLikelihood(np.zeros(valid.shape), valid, spacing, nu, device)
-    covariance = _inverse_information(likelihood.expected_information(u))
+    covariance, _ = held_inverse(likelihood.expected_information(u))
     return WhittleFit(groove, float(noise_variance), 0.0, math.nan, int(valid.sum()),
                       likelihood.n_frequencies, nu, u, covariance)
 
@@ -378,6 +383,34 @@ def robust_covariance(fit: WhittleFit, valid, spacing=1.0, *, n_draws=40, seed=0
         scores.append(likelihood.with_heights(z).value_and_gradient(u)[1])
     score_covariance = np.cov(np.asarray(scores), rowvar=False)
     return inverse @ score_covariance @ inverse
+
+
+def held_inverse(information, limits=UNDETERMINED_SE) -> tuple[np.ndarray, tuple]:
+    """``(inverse, held)``: the inverse of the information matrix over the coordinates it
+    determines, 0 in the rows and columns of the others (``held``, their indices). Greedy: while
+    the information over the free coordinates is not positive definite, the coordinate with the
+    least information in units of its ``limits`` is held; while a free coordinate's standard
+    error exceeds its limit, the one furthest beyond is held."""
+    information = np.asarray(information, dtype=np.float64)
+    limits = np.asarray(limits, dtype=np.float64)
+    free = list(range(len(information)))
+    inverse = np.zeros((0, 0))
+    while free:
+        sub = information[np.ix_(free, free)]
+        try:
+            np.linalg.cholesky(sub)
+        except np.linalg.LinAlgError:
+            free.pop(int(np.argmin(np.diag(sub) * limits[free] ** 2)))
+            continue
+        inverse = np.linalg.inv(sub)
+        excess = np.sqrt(np.diag(inverse)) / limits[free]
+        if excess.max() <= 1.0:
+            break
+        free.pop(int(np.argmax(excess)))
+    out = np.zeros(information.shape)
+    if free:
+        out[np.ix_(free, free)] = inverse
+    return out, tuple(k for k in range(len(information)) if k not in free)
 
 
 def _inverse_information(information) -> np.ndarray:

@@ -67,10 +67,32 @@ def test_what_cannot_be_drawn_this_way_is_refused(whittle):
             sandwich_models(whittle.model, whittle.block_fit, _valid(whittle), bad)
     with pytest.raises(ValueError, match="seed must be an integer >= 0"):
         sandwich_models(whittle.model, whittle.block_fit, _valid(whittle), 3, seed=-1)
-    undetermined = dataclasses.replace(whittle.block_fit,
-                                       covariance=np.full((5, 5), np.nan))
+    hp = {**whittle.model.hyperparameters, "lambda_a_um": 1000.0}
+    beyond = dataclasses.replace(whittle.model, hyperparameters=hp)
     with pytest.raises(ValueError, match="sandwich covariance is not finite"):
-        sandwich_models(whittle.model, undetermined, _valid(whittle), 3)
+        sandwich_models(beyond, None, _valid(whittle), 3)
+
+
+def test_a_singular_observed_information_falls_back_to_the_expected_one(whittle):
+    undetermined = dataclasses.replace(whittle.block_fit, covariance=np.full((5, 5), np.nan))
+    drawn = sandwich_models(whittle.model, undetermined, _valid(whittle), 20, seed=0)
+    alone = sandwich_models(whittle.model, None, _valid(whittle), 20, seed=0)
+    assert [m.hyperparameters for m in drawn.models] == [m.hyperparameters for m in alone.models]
+
+
+def test_held_inverse_holds_what_the_information_does_not_determine():
+    from roughgp.inference.whittle_fit import UNDETERMINED_SE, held_inverse
+    information = np.diag([100.0, 50.0, 50.0, 400.0, 1e-12])   # the noise: no information
+    information[0, 1] = information[1, 0] = 10.0
+    inverse, held = held_inverse(information)
+    assert held == (4,)
+    assert np.all(inverse[4] == 0) and np.all(inverse[:, 4] == 0)
+    np.testing.assert_allclose(inverse[:4, :4], np.linalg.inv(information[:4, :4]))
+    singular = information.copy()
+    singular[4, 4] = -1.0                                       # not positive definite at all
+    assert held_inverse(singular)[1] == (4,)
+    loose = np.diag([1.0 / (2 * UNDETERMINED_SE[0]) ** 2, 50.0, 50.0, 400.0, 100.0])
+    assert held_inverse(loose)[1] == (0,)                       # se twice its limit
 
 
 def test_a_model_alone_gives_draws_close_to_those_of_its_fit(whittle):
