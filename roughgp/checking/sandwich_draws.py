@@ -92,9 +92,10 @@ def sandwich_models(model: FittedModel, fit: WhittleFit | None, valid, n_models,
         n_score_draws: surfaces for :math:`J` (an integer >= 10).
 
     Raises:
-        ValueError: a model of another equation, a fit that is not a Whittle fit, or a
-            sandwich covariance that is not finite (a parameter the map does not determine):
-            the predictive simulations cannot be drawn this way, and the message says so.
+        ValueError: a model of another equation, a fit that is not a Whittle fit, a sandwich
+            covariance that is not finite (a length far beyond the map, or a model the grid
+            cannot draw), or a grid that determines none of the parameters: the predictive
+            simulations cannot be drawn this way, and the message says so.
     """
     if not isinstance(model, FittedModel) or model.equation not in _EQUATIONS:
         raise ValueError(f"model must be an eq 18 surface model ({', '.join(_EQUATIONS)}), got "
