@@ -81,7 +81,10 @@ def main(argv=None) -> int:
                 f"Where the model's family describes the surface (the stationary maps and those "
                 f"with holes together): the share outside per parameter with its 95 % interval, "
                 f"and whether it lies within 10 % +- 3 % (yes / no / undecided: the interval "
-                f"straddles a bound):\n\n{calibration_table(records, likelihood=likelihood)}\n")
+                f"straddles a bound):\n\n{calibration_table(records, likelihood=likelihood)}\n"
+                + "".join(f"\nNo sandwich draws for {r['kind']} {r['index']}: "
+                          f"{r['sandwich_refused']}\n"
+                          for r in rows if r.get("sandwich_refused")))
         text = (f"# The out-of-sample check on synthetic maps of known models\n\n"
                 f"From `{args.out.name}`, written {datetime.date.today()}.\n\n"
                 + "\n".join(sections))

@@ -324,7 +324,7 @@ def plot_calibration(records, *, kinds=DESCRIBED, variants=VARIANTS, names=SURFA
     import matplotlib.pyplot as plt
     shares = calibration_shares(records, kinds=kinds, variants=variants, names=names,
                                 likelihood=likelihood)
-    fig, ax = plt.subplots(figsize=(7.6, 3.2), constrained_layout=True)
+    fig, ax = plt.subplots(figsize=(6.8, 3.6), constrained_layout=True)
     ax.axhspan(7, 13, color="0.9", label="10 % ± 3 %")
     x = np.arange(len(names))
     width = 0.8 / max(len(shares), 1)
@@ -337,7 +337,7 @@ def plot_calibration(records, *, kinds=DESCRIBED, variants=VARIANTS, names=SURFA
                     label=f"{variant} ({s['cases']})")
     ax.set_xticks(x, names, rotation=45)
     ax.set_ylabel("cases outside (%)")
-    ax.legend(fontsize=7, ncol=5, loc="lower center", bbox_to_anchor=(0.5, 1.0),
+    ax.legend(fontsize=9, ncol=3, loc="lower center", bbox_to_anchor=(0.5, 1.0),
               frameon=False)
     return fig
 
