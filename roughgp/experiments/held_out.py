@@ -235,6 +235,13 @@ def recorded_path(shape=SHAPE) -> Path:
         f"{RECORDED.stem}_{shape[0]}x{shape[1]}.jsonl")
 
 
+def _wilson(k, n) -> tuple[float, float]:
+    """The 95 % Wilson interval of ``k`` cases of ``n`` (``scipy.stats.binomtest``), as floats."""
+    from scipy.stats import binomtest
+    interval = binomtest(int(k), int(n)).proportion_ci(0.95, method="wilson")
+    return float(interval.low), float(interval.high)
+
+
 def calibration_shares(records, *, kinds=DESCRIBED, variants=VARIANTS,
                        names=SURFACE_PARAMETERS, likelihood="blocks") -> dict:
     """``{variant: {parameter: (share, low, high, verdict)}}`` over ``kinds``' cases (those the
@@ -243,7 +250,6 @@ def calibration_shares(records, *, kinds=DESCRIBED, variants=VARIANTS,
     interval, not empty at 0 of n) and the verdict on 10 % +- 3 %
     (:func:`~roughgp.checking.ranks.verdict_within`: yes, no or undecided). Variants with
     fewer than 2 cases are left out."""
-    from scipy.stats import binomtest
     out = {}
     for variant in variants:
         rows = [r for r in records if r["kind"] in kinds and variant in r["outside"]
@@ -253,9 +259,8 @@ def calibration_shares(records, *, kinds=DESCRIBED, variants=VARIANTS,
         shares = {"cases": len(rows)}
         for name in names:
             k = sum(name in r["outside"][variant] for r in rows)
-            interval = binomtest(k, len(rows)).proportion_ci(0.95, method="wilson")
-            shares[name] = (k / len(rows), interval.low, interval.high,
-                            verdict_within(interval.low, interval.high))
+            low, high = _wilson(k, len(rows))
+            shares[name] = (k / len(rows), low, high, verdict_within(low, high))
         out[variant] = shares
     return out
 
@@ -296,13 +301,10 @@ def cases_to_decide(target=0.1, tolerance=0.03, *, step=10) -> int:
     """The fewest cases (a multiple of ``step``) at which a share of exactly ``target`` gets a
     95 % Wilson interval within ``target`` +- ``tolerance``: fewer cannot show a calibrated
     check "within" (:func:`calibration_shares`), only "beyond"."""
-    from scipy.stats import binomtest
     n = step
     while True:
         k = round(target * n)
-        interval = binomtest(k, n).proportion_ci(0.95, method="wilson")
-        if k / n == target and verdict_within(interval.low, interval.high, target,
-                                              tolerance) == "yes":
+        if k / n == target and verdict_within(*_wilson(k, n), target, tolerance) == "yes":
             return n
         n += step
 
