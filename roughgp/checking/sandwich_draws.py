@@ -42,6 +42,7 @@ from roughgp.common.checks import as_generator, check_integer
 from roughgp.inference.whittle_fit import (FAR_BEYOND, UNDETERMINED_SE, WhittleFit, implied_fit,
                                            robust_covariance)
 from roughgp.models.surfaces import GrooveParameters
+from roughgp.surface_models.coordinates import eq18_coordinates
 from roughgp.surface_models.model import FittedModel
 
 __all__ = ["MAX_SANDWICH_MODELS", "CLIP_SD", "UNDETERMINED_SD", "SandwichDraws",
@@ -62,13 +63,6 @@ class SandwichDraws(NamedTuple):
 
     models: tuple
     held: tuple
-
-
-def _centre(model: FittedModel) -> np.ndarray:
-    hp = model.hyperparameters
-    return np.array([math.log(hp["variance_um2"]), math.log(hp["lambda_a_um"]),
-                     math.log(hp["lambda_b_um"]), math.radians(hp["angle_deg"]),
-                     math.log(hp["noise_variance_um2"])])
 
 
 def sandwich_models(model: FittedModel, fit: WhittleFit | None, valid, n_models, *, seed=0,
@@ -131,7 +125,7 @@ def sandwich_models(model: FittedModel, fit: WhittleFit | None, valid, n_models,
     sd = np.where(free, sd, 0.0)
     values, vectors = np.linalg.eigh(sigma)
     root = vectors * np.sqrt(np.clip(values, 0.0, None))
-    centre = _centre(model)
+    centre = eq18_coordinates(model.hyperparameters)
     longest = FAR_BEYOND * max(k * d for k, d in zip(valid.shape, model.spacing))
     held = tuple(name for name, f in zip(_NAMES, free) if not f)
     out = []

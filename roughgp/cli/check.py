@@ -226,13 +226,14 @@ def run(args) -> int:
     err(f"simulating {args.simulations} {model.kind}s of {' x '.join(map(str, z.shape))}"
         f" points from {args.model} ...")
     spacing = heights.spacing if model.kind == "surface" else (heights.spacing[-1],)
-    draws = args.draws = ("plug-in" if models is None else "predictive" if
-                          args.predictive_from == "refits" else "predictive (sandwich)")
+    draws = ("plug-in" if models is None else "predictive" if
+             args.predictive_from == "refits" else "predictive (sandwich)")
     if args.tiles:
-        code = _tiles(args, model, z, spacing, models, start, json_out, plot, spacing_note)
+        code = _tiles(args, model, z, spacing, models, start, json_out, plot, spacing_note,
+                      draws)
     elif fitted_part is not None:
         code = _held_out(args, model, z, spacing, models, fitted_part, start, json_out, plot,
-                         spacing_note)
+                         spacing_note, draws)
     else:
         code = _whole(args, model, z, spacing, models, start, json_out, plot, spacing_note,
                       part, draws)
@@ -312,7 +313,7 @@ def _describe(part) -> str:
 
 
 def _held_out(args, model, z, spacing, models, fitted_part, start, json_out, plot,
-              spacing_note) -> int:
+              spacing_note, draws) -> int:
     """``check --held-out``: the fitted part and the other half, one table each."""
     from roughgp.checking.held_out import held_out_check
     try:
@@ -321,7 +322,6 @@ def _held_out(args, model, z, spacing, models, fitted_part, start, json_out, plo
     except ValueError as error:
         raise UsageError(f"--held-out: {error}") from None
     err(f"({time.perf_counter() - start:.1f} s)")
-    draws = args.draws
     print(f"{args.file} against {args.simulations} {draws} simulations of {args.model}, on the "
           f"part it was fitted on and on the part it did not see")
     _print_head(model, result.held_out, spacing_note)
@@ -344,13 +344,13 @@ def _held_out(args, model, z, spacing, models, fitted_part, start, json_out, plo
     return 0
 
 
-def _tiles(args, model, z, spacing, models, start, json_out, plot, spacing_note) -> int:
+def _tiles(args, model, z, spacing, models, start, json_out, plot, spacing_note,
+           draws) -> int:
     """``check --tiles M N``: the outside tiles per parameter, as counts and a text map."""
     from roughgp.checking.tiles import tile_check
     result = tile_check(model, z, spacing, tiles=tuple(args.tiles),
                         n_simulations=args.simulations, seed=args.seed, models=models)
     err(f"({time.perf_counter() - start:.1f} s)")
-    draws = args.draws
     m, n = result.tiles
     print(f"{args.file} in {m} x {n} tiles against {args.simulations} {draws} simulations of "
           f"{args.model}")

@@ -24,6 +24,7 @@ import math
 import numpy as np
 
 from roughgp.gp.noise import GaussianNoise
+from roughgp.surface_models.coordinates import eq18_coordinates
 from roughgp.surface_models.height_bound import EXTREME_SCORE
 
 __all__ = ["SPREAD_NAMES", "region_parameters", "draw_population_model"]
@@ -39,8 +40,7 @@ def region_parameters(hyperparameters, spacing, rng, count, longest=None) -> lis
     and ``noise_variance_um2`` (module docstring); ``longest``: None or the largest length
     drawn (um)."""
     hp = hyperparameters
-    centre = np.array([math.log(hp["variance_um2"]), math.log(hp["lambda_a_um"]),
-                       math.log(hp["lambda_b_um"]), math.radians(hp["angle_deg"])])
+    centre = eq18_coordinates(hp)[:4]
     spread = np.array([hp[name] for name in SPREAD_NAMES], dtype=np.float64)
     spread[3] = math.radians(spread[3])
     low, high = 1e-3 * min(spacing), 1e7 * max(spacing)
