@@ -86,7 +86,11 @@ def sandwich_models(model: FittedModel, fit: WhittleFit | None, valid, n_models,
         n_score_draws: surfaces for :math:`J` (an integer >= 10).
 
     Raises:
-        ValueError: a model of another equation, a fit that is not a Whittle fit, a sandwich
+        ValueError: a model of another equation, a fit that is not a Whittle fit, a model
+            whose lengths the fit replaced because the map does not pin them
+            (:func:`~roughgp.surface_models.in_range.keep_in_range`: the model's ``fit`` holds
+            ``"range"``; its centre is no optimum, and the spread of draws around it was
+            such that the check could not say no), a sandwich
             covariance that is not finite (a length far beyond the map, or a model the grid
             cannot draw), or a grid that determines none of the parameters: the predictive
             simulations cannot be drawn this way, and the message says so.
@@ -97,6 +101,13 @@ def sandwich_models(model: FittedModel, fit: WhittleFit | None, valid, n_models,
     if fit is not None and not isinstance(fit, WhittleFit):
         raise ValueError("fit must be the WhittleFit of fit_surface_model(..., "
                          f"likelihood='whittle') or None, got {type(fit).__name__}")
+    capped = model.fit.get("range")
+    if capped:
+        raise ValueError("the fit's lengths were replaced (" + "; ".join(map(str, capped))
+                         + "): the map does not pin them, and a normal approximation "
+                         "around a replaced optimum says nothing of their uncertainty; draw "
+                         "the predictive simulations by refits or fit a larger part of the "
+                         "surface")
     n = check_integer("n_models", n_models, 1, MAX_SANDWICH_MODELS)
     if not isinstance(seed, (int, np.integer)) or seed < 0:
         raise ValueError(f"seed must be an integer >= 0, got {seed!r}")

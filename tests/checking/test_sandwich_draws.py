@@ -124,3 +124,18 @@ def test_a_noise_the_map_does_not_determine_is_held_at_the_fit(whittle):
     assert drawn.held == ("noise_variance_um2",)
     assert {m.hyperparameters["noise_variance_um2"] for m in drawn.models} == {1e-8}
     assert len({m.hyperparameters["variance_um2"] for m in drawn.models}) == 50
+
+
+def test_a_model_whose_lengths_the_fit_replaced_is_refused(whittle):
+    """ps-1's left half (an AFM map 0.5 um wide): lambda_a 2.6 um, 5 times the field, capped
+    at 0.5 um with the variance scaled; drawn around that point, the predictive simulations'
+    variance spread over three decades and the check could not say no."""
+    from roughgp.surface_models.in_range import keep_in_range
+    hp = {**whittle.model.hyperparameters, "lambda_a_um": 1000.0, "lambda_b_um": 400.0}
+    far = dataclasses.replace(whittle.model, hyperparameters=hp)
+    capped, notes = keep_in_range(far, (64, 64), None)
+    assert notes and capped.fit["range"] == notes
+    with pytest.raises(ValueError, match="lengths were replaced .*refits or fit a larger part"):
+        sandwich_models(capped, None, _valid(whittle), 3)
+    with pytest.raises(ValueError, match="lengths were replaced"):
+        sandwich_models(capped, whittle.block_fit, _valid(whittle), 3)
