@@ -85,7 +85,7 @@ def texture(surface, spacing=None, *, form="plane", s="auto", l="auto", degree=2
 
 
 def fit(surface, spacing=None, *, model=None, form="plane", s=None, l=None, degree=2,
-        axis="auto", marginal="gaussian", seed=0, **options):
+        axis="auto", marginal=None, seed=0, **options):
     """Fit a model to a measured surface or profile (holes allowed on a surface) and return it
     as a :class:`~roughgp.surface_models.model.FittedModel` (``.save(path)`` writes the model
     file; :func:`simulate`, :func:`check` and :func:`fill` use it).
@@ -96,13 +96,14 @@ def fit(surface, spacing=None, *, model=None, form="plane", s=None, l=None, degr
         model: a rung of the ladder (:data:`roughgp.surface_models.ladder.RUNGS`) for a surface:
             ``"eq18"`` (the default: the paper's eq 18 plus noise), ``"matern"``, ``"sm"`` (a
             2-D spectral mixture), ``"psd"`` (the measured PSD), or ``"auto"`` (the rung that
-            predicts held-out points best, :func:`roughgp.surface_models.ladder.choose_model`);
+            predicts held-out points best, its heights' distribution chosen by the
+            out-of-sample check, :func:`roughgp.checking.auto_choice.choose_checked`);
             ``"eq21"`` (the default) for a profile.
         form, degree, axis, s, l: the measurement's F-operator and S- and L-filters (default:
             a least-squares plane, no filter); the model describes the heights after F, and its
             simulations go through the rest of the chain as the measurement did.
         marginal: the heights' distribution, ``"gaussian"``, ``"johnson"`` or ``"iaaft"``
-            (surfaces).
+            (surfaces); None (the default): Gaussian, but chosen by ``model="auto"``.
         seed: of the fit's blocks or starts.
         options: passed on: ``block``, ``n_blocks``, ``nu``, ``data`` to
             :func:`~roughgp.surface_models.ladder.fit_rung` (a surface), ``num_mixtures``,
@@ -113,15 +114,16 @@ def fit(surface, spacing=None, *, model=None, form="plane", s=None, l=None, degr
     if getattr(z, "ndim", 2) == 1:
         if model not in (None, "eq21"):
             raise ValueError(f"a profile is fitted with model 'eq21', got {model!r}")
-        if marginal != "gaussian":
+        if marginal not in (None, "gaussian"):
             raise ValueError("a profile's marginal is 'gaussian' (non_gaussian=True keeps its "
                              f"skewness and kurtosis), got {marginal!r}")
         from roughgp.surface_models.fit import fit_profile_model
         return fit_profile_model(z, spacing, form=form, s=s, l=l, seed=seed, **options).model
-    chain = dict(form=form, s=s, l=l, degree=degree, axis=axis, marginal=marginal, seed=seed)
+    chain = dict(form=form, s=s, l=l, degree=degree, axis=axis, seed=seed)
     if model == "auto":
-        from roughgp.surface_models.ladder import choose_model
-        return choose_model(z, spacing, **chain, **options).model
+        from roughgp.checking.auto_choice import choose_checked
+        return choose_checked(z, spacing, marginal=marginal, **chain, **options).model
+    chain["marginal"] = marginal or "gaussian"
     from roughgp.surface_models.ladder import fit_rung
     return fit_rung("eq18" if model is None else model, z, spacing, **chain, **options)[0]
 

@@ -5,7 +5,8 @@ with ``--seed`` set to the file's seed (:func:`roughgp.batch.records.file_seed`)
 * ``texture``: :func:`roughgp.texture` after the reader (``roughgp texture``);
 * ``fit``: :func:`~roughgp.surface_models.fit.fit_surface_model` (eq 18, ``--model eq18``),
   :func:`~roughgp.surface_models.ladder.fit_rung` (``matern``, ``sm``, ``psd``),
-  :func:`~roughgp.surface_models.ladder.choose_model` (``auto``), the field and population
+  :func:`~roughgp.checking.auto_choice.choose_checked` (``auto``: the rung by held-out
+  prediction, its heights by the out-of-sample check), the field and population
   models of :mod:`~roughgp.surface_models.field_model` and
   :mod:`~roughgp.surface_models.population_model` (``field``, ``population``: the map's
   ``anchors`` tiles), on the whole map or on the
@@ -167,7 +168,7 @@ def _fit(path, heights, options, seed, folder):
         data["part"] = part.to_dict()
         heights = dataclasses.replace(heights, z=part.cut(heights.z))
     from roughgp.surface_models.fit import fit_surface_model
-    from roughgp.surface_models.ladder import choose_model, fit_rung
+    from roughgp.surface_models.ladder import fit_rung
     operators = operators_of(options, s_default="none", l_default="auto")
     _check_cutoffs(operators, heights.z.shape, heights.spacing)
     z, block, n_blocks = heights.z, options.get("block", 24), options.get("blocks", 12)
@@ -203,10 +204,17 @@ def _fit(path, heights, options, seed, folder):
                         n_blocks=n_blocks, nu=nu if nu in (1.5, 2.5) else 1.5, data=data,
                         likelihood=likelihood)
         if rung == "auto":
-            choice = choose_model(z, heights.spacing, **settings)
+            from roughgp.checking.auto_choice import choose_checked
+            settings.pop("marginal")
+            choice = choose_checked(z, heights.spacing, marginal=options.get("marginal"),
+                                    **settings)
             model, notes = choice.model, choice.range_notes
-            entry.update(chosen=choice.chosen, reason=choice.reason,
-                         held_out_rmse_um={r.name: r.rmse for r in choice.rungs})
+            entry.update(chosen=choice.chosen, reason=choice.ladder.reason,
+                         held_out_rmse_um={r.name: r.rmse for r in choice.ladder.rungs},
+                         heights=choice.marginal, heights_reason=choice.reason,
+                         out_of_sample_outside={c.marginal: (None if c.outside is None
+                                                             else len(c.outside))
+                                                for c in choice.candidates})
         else:
             model, notes = fit_rung(rung, z, heights.spacing, **settings)
     model_path = _save(model, folder)

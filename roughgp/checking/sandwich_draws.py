@@ -22,10 +22,20 @@ where the information is singular there (the fit's observed information, or the 
 information of a model file), the other coordinates' covariance is that of the information
 over them alone (:func:`~roughgp.inference.whittle_fit.held_inverse`). The draws say which were
 held. Each other coordinate of :math:`u^*` is held within 3 standard
-errors of :math:`\hat u` and each
-length within :data:`~roughgp.inference.whittle_fit.FAR_BEYOND` times the fitted map's longer
-side (beyond it the map says nothing of the length, and drawing it means a huge torus), so a
-parameter the map barely determines cannot draw absurd surfaces. What this buys out of
+errors of :math:`\hat u` (beyond the map's side it says little of a length, and drawing one
+there means a huge torus), so a
+parameter the map barely determines cannot draw absurd surfaces.
+
+Where the map determines the variance or a length only within a factor of 2 per standard
+error (:data:`POWERLESS_SD`, the log's standard error), drawing them is refused: the draws
+within 3 standard errors would span a factor of 64 or more, from surfaces near white noise to
+planes, and a check against such simulations cannot say no (the left halves of two AFM maps
+of ``data/``, 0.5 and 0.6 um wide with lengths near the field's side: lengths drawn from
+0.001 to 2.4 um). A length is drawn no longer than the fitted model's own or the map's
+longer side, whichever is longer: the fit was drawn on that grid
+(:func:`~roughgp.surface_models.in_range.keep_in_range`), while a length near
+:data:`~roughgp.inference.whittle_fit.FAR_BEYOND` times the side may not embed on any torus
+the sampler tries. What this buys out of
 sample, against the plug-in simulations, is measured at 256 x 256 in
 ``benchmarks/held_out_calibration.py`` (``--shape 256 512 --likelihood whittle``).
 """
@@ -39,20 +49,27 @@ from typing import NamedTuple
 import numpy as np
 
 from roughgp.common.checks import as_generator, check_integer
-from roughgp.inference.whittle_fit import (FAR_BEYOND, UNDETERMINED_SE, WhittleFit, implied_fit,
-                                           robust_covariance)
+from roughgp.inference.whittle_fit import (
+    UNDETERMINED_SE,
+    WhittleFit,
+    implied_fit,
+    robust_covariance,
+)
 from roughgp.models.surfaces import GrooveParameters
 from roughgp.surface_models.coordinates import eq18_coordinates
 from roughgp.surface_models.model import FittedModel
 
-__all__ = ["MAX_SANDWICH_MODELS", "CLIP_SD", "UNDETERMINED_SD", "SandwichDraws",
-           "sandwich_models"]
+__all__ = ["MAX_SANDWICH_MODELS", "CLIP_SD", "UNDETERMINED_SD", "POWERLESS_SD",
+           "SandwichDraws", "sandwich_models"]
 
 MAX_SANDWICH_MODELS = 999  #: the most parameter draws
 CLIP_SD = 3.0  #: each drawn coordinate within this many standard errors of the fit
 #: the standard error beyond which a coordinate of u is held at the fit (log variance, log
 #: lengths, angle in radians, log noise): :data:`~roughgp.inference.whittle_fit.UNDETERMINED_SE`
 UNDETERMINED_SD = UNDETERMINED_SE
+#: the standard error of the log variance or a log length beyond which the draws are refused:
+#: a factor of 2 per standard error (module docstring)
+POWERLESS_SD = math.log(2.0)
 _EQUATIONS = ("eq18", "eq18-matern")
 _NAMES = ("variance_um2", "lambda_a_um", "lambda_b_um", "angle_deg", "noise_variance_um2")
 
@@ -90,7 +107,8 @@ def sandwich_models(model: FittedModel, fit: WhittleFit | None, valid, n_models,
             whose lengths the fit replaced because the map does not pin them
             (:func:`~roughgp.surface_models.in_range.keep_in_range`: the model's ``fit`` holds
             ``"range"``; its centre is no optimum, and the spread of draws around it was
-            such that the check could not say no), a sandwich
+            such that the check could not say no), a variance or length determined only within
+            a factor of more than 2 per standard error (:data:`POWERLESS_SD`), a sandwich
             covariance that is not finite (a length far beyond the map, or a model the grid
             cannot draw), or a grid that determines none of the parameters: the predictive
             simulations cannot be drawn this way, and the message says so.
@@ -132,12 +150,21 @@ def sandwich_models(model: FittedModel, fit: WhittleFit | None, valid, n_models,
     if not free.any():
         raise ValueError("the fitted grid determines none of eq 18's parameters: no "
                          "predictive simulations can be drawn from its sandwich covariance")
+    loose = [(name, float(v)) for name, v, f in zip(_NAMES[:3], sd[:3], free[:3])
+             if f and v > POWERLESS_SD]
+    if loose:
+        raise ValueError("the fit determines " + ", ".join(
+            f"{name} only within a factor of {math.exp(v):.3g}" for name, v in loose)
+            + " per standard error (at most 2 for the predictive draws): the draws within 3 "
+            "standard errors would span a factor of 64 or more and the check could not say no; "
+            "fit a larger part of the surface, or check the plug-in simulations")
     sigma = np.where(np.outer(free, free), sigma, 0.0)
     sd = np.where(free, sd, 0.0)
     values, vectors = np.linalg.eigh(sigma)
     root = vectors * np.sqrt(np.clip(values, 0.0, None))
     centre = eq18_coordinates(model.hyperparameters)
-    longest = FAR_BEYOND * max(k * d for k, d in zip(valid.shape, model.spacing))
+    longest = max(max(k * d for k, d in zip(valid.shape, model.spacing)),
+                  model.hyperparameters["lambda_a_um"])
     held = tuple(name for name, f in zip(_NAMES, free) if not f)
     out = []
     for _ in range(n):

@@ -152,7 +152,8 @@ def add_parser(sub, formatter) -> None:
                    help=f"--model field or population: the M x N tiles of each map, M and N "
                         f"in [1, {MAX_ANCHORS}] (default 4 4 for field, 2 2 for population)")
     f.add_argument("--marginal", choices=("gaussian", "johnson", "iaaft"), default=None,
-                   help="the heights' distribution (default gaussian)")
+                   help="the heights' distribution (default gaussian; --model auto: chosen "
+                        "by the out-of-sample check)")
     f.add_argument("--nu", type=float, choices=(0.5, 1.5, 2.5), default=0.5,
                    help="smoothness of eq 18 (default 0.5)")
     f.add_argument("--likelihood", choices=("blocks", "whittle"), default="blocks",

@@ -11,6 +11,7 @@ import time
 import numpy as np
 
 from roughgp.cli.bounds import bounds_text, check_block, integer
+from roughgp.cli.fit_auto import choose_auto_command
 from roughgp.cli.fit_periodic import (
     fit_periodic_command,
     fit_periodic_profile_command,
@@ -21,7 +22,6 @@ from roughgp.cli.fit_regions import (
     fit_population_command,
     fit_population_files_command,
 )
-from roughgp.surface_models.schema import MAX_ANCHORS
 from roughgp.cli.options import (
     add_operator_options,
     add_part_option,
@@ -35,11 +35,18 @@ from roughgp.cli.options import (
     write_flagged,
 )
 from roughgp.cli.output import (
-    UsageError, add_force_option, check_device, check_outputs, err, print_operators,
-    print_wrapped, refused_by,
+    UsageError,
+    add_force_option,
+    check_device,
+    check_outputs,
+    err,
+    print_operators,
+    print_wrapped,
+    refused_by,
 )
 from roughgp.io.measurement import mean_profile
 from roughgp.io.writers import atomic_output
+from roughgp.surface_models.schema import MAX_ANCHORS
 
 __all__ = ['add_parser', 'run', 'MAX_PROFILE_POINTS']
 
@@ -130,10 +137,16 @@ simulations are then Johnson-transformed GPs, roughgp.non_gaussian).
   auto    fits the four without 2 % of the measured points (held out in small discs),
           predicts those by kriging with each model's covariance, prints one line per model
           (held-out RMSE, seconds) and keeps the simplest within one standard error of the
-          best; the chosen one is fitted again on all points.
---marginal gaussian|johnson|iaaft: the heights' distribution (johnson: their skewness and
-kurtosis, the same as --non-gaussian; iaaft: their whole distribution, 1001 quantiles, matched
-exactly by iterated amplitude-adjusted Fourier transforms, roughgp.surface_models.iaaft).
+          best; then chooses its heights' distribution by the out-of-sample check
+          (roughgp.checking.auto_choice): the chosen model fitted with each of gaussian,
+          johnson and iaaft heights on one half of the map's central window (at most 512 x
+          256 points), checked with 19 simulations on the other half, the one with the
+          fewest texture parameters outside kept (a --marginal given is kept, its count
+          printed); the chosen one is fitted again on all points.
+--marginal gaussian|johnson|iaaft: the heights' distribution (default gaussian; with --model
+auto, chosen); johnson: their skewness and kurtosis, the same as --non-gaussian; iaaft: their
+whole distribution, 1001 quantiles, matched exactly by iterated amplitude-adjusted Fourier
+transforms, roughgp.surface_models.iaaft.
 
 examples:
   roughgp fit ground land.x3p --form cylinder --out land-model.json
@@ -203,8 +216,8 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                         f"{bounds_text('--feed')} and at most a quarter of the map (default: "
                         f"found from the data)")
     g.add_argument("--marginal", choices=("gaussian", "johnson", "iaaft"), default=None,
-                   help="the heights' distribution (default gaussian; --non-gaussian is "
-                        "johnson)")
+                   help="the heights' distribution (default gaussian; --model auto: chosen "
+                        "by the out-of-sample check; --non-gaussian is johnson)")
     g.add_argument("--likelihood", choices=("blocks", "whittle"), default="blocks",
                    help="eq 18's (and the Matern rung's) likelihood: blocks (default: --blocks "
                         "random blocks of --block x --block points) or whittle (the debiased "
@@ -370,23 +383,14 @@ def _marginal_choice(args):
 
 def _fit_rungs(args, heights, operators, data, z):
     """``fit ground --model matern|sm|psd|auto``: the ladder (roughgp.surface_models.ladder)."""
-    from roughgp.surface_models.ladder import choose_model, fit_rung
+    from roughgp.surface_models.ladder import fit_rung
     marginal = _marginal_choice(args)
     nu = args.nu if args.nu in (1.5, 2.5) else 1.5
     settings = dict(**operators, marginal=marginal, seed=args.seed, block=args.block,
                     n_blocks=args.blocks, nu=nu, data=data, likelihood=args.likelihood)
     if args.rung == "auto":
         note_periodic_mark(args, heights, operators, z)
-        print(f"choosing a model for {args.file} by the kriging of held-out measured points:")
-        print(f"  {'model':<7} {'held-out RMSE (um)':>19} {'+-2 sd held':>12} {'seconds':>8}")
-
-        def show(rung):
-            print(f"  {rung.name:<7} {rung.rmse:>19.5g} {rung.check.coverage():>12.1%} "
-                  f"{rung.seconds:>8.1f}", flush=True)
-        with refused_by(args.file):
-            choice = choose_model(z, heights.spacing, progress=show, **settings)
-        print_wrapped(f"chose {choice.chosen}: {choice.reason}")
-        model, notes = choice.model, choice.range_notes
+        model, notes = choose_auto_command(args, heights, z, settings)
     else:
         with refused_by(args.file):
             model, notes = fit_rung(args.rung, z, heights.spacing, **settings)

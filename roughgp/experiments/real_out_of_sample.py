@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
+from roughgp.checking.auto_choice import central_window
 from roughgp.common.jsonl import read_records
 from roughgp.experiments.real_maps import REAL_MAPS
 
@@ -70,11 +71,10 @@ MODELS = (
 def split_window(shape) -> tuple:
     """``(first row, first column, rows, columns, part)``: the central window of a map of
     ``shape`` (at most :data:`LONG` points along its longer axis, :data:`SHORT` across) and
-    the half fitted, ``"left"`` when the window is at least as wide as tall, else ``"top"``."""
-    ny, nx = (int(n) for n in shape)
-    wide = nx >= ny
-    rows, cols = (min(ny, SHORT), min(nx, LONG)) if wide else (min(ny, LONG), min(nx, SHORT))
-    return (ny - rows) // 2, (nx - cols) // 2, rows, cols, ("left" if wide else "top")
+    the half fitted, ``"left"`` when the window is at least as wide as tall, else ``"top"``
+    (:func:`roughgp.checking.auto_choice.central_window`, the window ``--model auto`` checks
+    its heights on)."""
+    return central_window(shape, LONG, SHORT)
 
 
 def write_windows(folder, maps=REAL_MAPS) -> dict:
@@ -98,7 +98,8 @@ def write_windows(folder, maps=REAL_MAPS) -> dict:
 
 def row_of(model: str, record: dict) -> dict:
     """One recorded row from a batch record: the map, the model, the parameters outside on
-    each half, the rung fitted, the timings or the error."""
+    each half, the rung fitted (``auto``: the rung chosen and its heights), the timings or the
+    error."""
     fit = record.get("fit") or {}
     inside, held = record.get("check") or {}, record.get("held_out") or {}
     name = Path(record["path"]).stem
@@ -107,7 +108,7 @@ def row_of(model: str, record: dict) -> dict:
             name = entry.name
     return {"map": name, "model": model, "shape": record.get("shape"),
             "sha256": record.get("sha256"), "seed": record.get("seed"),
-            "rung": fit.get("rung"), "chosen": fit.get("chosen"),
+            "rung": fit.get("rung"), "chosen": fit.get("chosen"), "heights": fit.get("heights"),
             "fitted_outside": inside.get("outside"), "held_out_outside": held.get("outside"),
             "sq_um": [_measured(inside, "Sq"), _measured(held, "Sq")],
             "seconds": (record.get("seconds") or {}).get("total"),

@@ -139,3 +139,21 @@ def test_a_model_whose_lengths_the_fit_replaced_is_refused(whittle):
         sandwich_models(capped, None, _valid(whittle), 3)
     with pytest.raises(ValueError, match="lengths were replaced"):
         sandwich_models(capped, whittle.block_fit, _valid(whittle), 3)
+
+
+def test_lengths_the_map_barely_determines_are_refused_and_draws_stay_drawable():
+    """top-1's left half (an AFM map 0.6 x 0.3 um, lengths 0.6 and 0.5 um fitted): the
+    lengths' standard error was a factor of 8.6, the draws spread from 0.001 to 2.4 um and the
+    longest did not embed. A field 2 lengths long (its standard errors a factor of 2.1) is
+    refused the same way, naming the loose parameters; a field 32 lengths wide draws, no length beyond the field's side or the fit's."""
+    from roughgp.checking.sandwich_draws import POWERLESS_SD
+    truth = {"variance_um2": 1.0, "lambda_a_um": 32.0, "lambda_b_um": 24.0, "angle_deg": 20.0,
+             "noise_variance_um2": 1e-4}
+    small = FittedModel("eq18", truth, (1.0, 1.0))
+    with pytest.raises(ValueError, match=r"determines .*lambda_a_um only within a factor of "
+                                         r"[0-9.]+.*at most 2"):
+        sandwich_models(small, None, np.ones((64, 32), dtype=bool), 5, seed=0)
+    ok = FittedModel("eq18", {**truth, "lambda_a_um": 4.0, "lambda_b_um": 3.0}, (1.0, 1.0))
+    drawn = sandwich_models(ok, None, np.ones((128, 128), dtype=bool), 40, seed=0).models
+    assert max(m.hyperparameters["lambda_a_um"] for m in drawn) <= 128.0
+    assert math.log(2.0) == POWERLESS_SD

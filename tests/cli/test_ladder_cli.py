@@ -14,6 +14,7 @@ from roughgp.checking.model_check import SURFACE_PARAMETERS
 from roughgp.gp.kernels import RotatedExponentialKernel
 from roughgp.io import x3p
 from roughgp.io.writers import write_heights
+from roughgp.surface_models.model import FittedModel
 from roughgp.sampling import sample_grid
 from cli_run import run
 
@@ -96,6 +97,14 @@ def test_auto_prints_each_candidate_and_why(capsys, tmp_path, surface):
         record["equation"]]
     assert f"chose {chosen}" in out and "chosen_by" in record["fit"]
     assert set(record["fit"]["held_out_rmse_um"]) == {"eq18", "matern", "sm", "psd"}
+    # the heights by the out-of-sample check: lognormal heights are not left Gaussian
+    checked = {w[0]: int(w[1]) for w in lines if len(w) > 2 and w[0] in
+               ("gaussian", "johnson", "iaaft")}
+    assert checked == record["fit"]["out_of_sample_outside"] and len(checked) == 3
+    assert "checking the heights' distribution out of sample" in out
+    heights = FittedModel.load(model).marginal_method
+    assert heights != "gaussian" and checked[heights] == min(checked.values())
+    assert f"with {heights} heights: they leave the fewest" in " ".join(out.split())
 
 
 def test_matern_rung_and_bad_combinations(capsys, tmp_path, surface):
