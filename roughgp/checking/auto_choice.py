@@ -5,7 +5,7 @@ The ladder (:func:`roughgp.surface_models.ladder.choose_model`) chooses the cova
 rung that predicts held-out measured points best by kriging, the simplest within one standard
 error. Kriging rates the covariance at short lags and says nothing of the heights'
 distribution, and a model that predicts the holes well can still draw surfaces unlike the
-measured one (the real maps of ``data/``: eq 18 with Gaussian heights leaves 11 to 13 of 13
+measured one (the real maps of ``data/``: eq 18 with Gaussian heights leaves 9 to 13 of 13
 texture parameters outside on the very crop it was fitted on,
 ``benchmarks/results/real_out_of_sample.md``). So :func:`choose_checked` asks the second
 question of the rung chosen: fitted on one half of the map with each height distribution
