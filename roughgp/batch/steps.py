@@ -210,7 +210,10 @@ def _fit(path, heights, options, seed, folder):
                                     **settings)
             model, notes = choice.model, choice.range_notes
             entry.update(chosen=choice.chosen, reason=choice.ladder.reason,
-                         held_out_rmse_um={r.name: r.rmse for r in choice.ladder.rungs},
+                         held_out_rmse_um={r.name: r.rmse for r in choice.ladder.rungs
+                                           if r.refused is None},
+                         refused_rungs={r.name: r.refused for r in choice.ladder.rungs
+                                        if r.refused is not None},
                          heights=choice.marginal, heights_reason=choice.reason,
                          out_of_sample_outside={c.marginal: (None if c.outside is None
                                                              else len(c.outside))

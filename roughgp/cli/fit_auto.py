@@ -18,6 +18,10 @@ def choose_auto_command(args, heights, z, settings):
     print(f"  {'model':<7} {'held-out RMSE (um)':>19} {'+-2 sd held':>12} {'seconds':>8}")
 
     def show(rung):
+        if rung.refused is not None:
+            print(f"  {rung.name:<7} {'refused':>19} {'':>12} {rung.seconds:>8.1f}", flush=True)
+            print_wrapped(f"    {rung.refused}")
+            return
         print(f"  {rung.name:<7} {rung.rmse:>19.5g} {rung.check.coverage():>12.1%} "
               f"{rung.seconds:>8.1f}", flush=True)
 

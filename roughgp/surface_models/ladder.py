@@ -63,16 +63,19 @@ class Rung:
         model: the model fitted without the held-out points.
         check: the kriging of the held-out points with it (RMSE, band coverage, ...).
         seconds: the fit and the kriging.
+        refused: why the rung could not be fitted (then ``model`` and ``check`` are None),
+            else None.
     """
 
     name: str
-    model: FittedModel
-    check: FillSelfCheck
+    model: FittedModel | None
+    check: FillSelfCheck | None
     seconds: float
+    refused: str | None = None
 
     @property
     def rmse(self) -> float:
-        return self.check.rmse["GP"]
+        return float("nan") if self.check is None else self.check.rmse["GP"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -133,9 +136,11 @@ def choose_model(z, spacing=1.0, *, rungs=RUNGS, form="plane", s=None, l=None, d
                  axis="auto", marginal="gaussian", seed=0, block=24, n_blocks=12, nu=1.5,
                  data=None, progress=None, likelihood="blocks") -> LadderChoice:
     """Fit each of ``rungs`` to ``z`` without held-out measured points, score the kriging of
-    those, choose, and fit the chosen rung on all points (module docstring). ``progress``:
-    called with each :class:`Rung` as it is scored. Raises ``ValueError`` when too few points
-    are measured to hold some out. ``likelihood``: eq 18's and the Matérn rung's
+    those, choose, and fit the chosen rung on all points (module docstring). A rung whose fit
+    is refused (a model that cannot be simulated on the grid, ...) is kept with the reason and
+    left out of the choice. ``progress``: called with each :class:`Rung` as it is scored.
+    Raises ``ValueError`` when too few points are measured to hold some out, or when no rung
+    can be fitted. ``likelihood``: eq 18's and the Matérn rung's
     (:func:`fit_rung`)."""
     arr = surface_array(z)
     unknown = [r for r in rungs if r not in RUNGS]
@@ -156,17 +161,31 @@ def choose_model(z, spacing=1.0, *, rungs=RUNGS, form="plane", s=None, l=None, d
     scored = []
     for name in rungs:
         start = time.perf_counter()
-        model, _ = fit_rung(name, hidden, spacing, **settings)
-        check = self_check_fill(residual, model.kernel(), noise_variance=model.noise_variance,
-                                spacing=spacing, held_out=held_out,
-                                nu=float(model.hyperparameters.get("nu", 0.5)))
-        rung = Rung(name, model, check, time.perf_counter() - start)
+        try:
+            model, _ = fit_rung(name, hidden, spacing, **settings)
+        except ValueError as error:   # a rung the map cannot give (say why, go on)
+            rung = Rung(name, None, None, time.perf_counter() - start,
+                        str(error).splitlines()[0])
+        else:
+            check = self_check_fill(residual, model.kernel(),
+                                    noise_variance=model.noise_variance, spacing=spacing,
+                                    held_out=held_out,
+                                    nu=float(model.hyperparameters.get("nu", 0.5)))
+            rung = Rung(name, model, check, time.perf_counter() - start)
         scored.append(rung)
         if progress is not None:
             progress(rung)
-    chosen, reason = _better(scored)
+    fitted = [r for r in scored if r.refused is None]
+    if not fitted:
+        raise ValueError("no rung of the ladder could be fitted: " + "; ".join(
+            f"{r.name}: {r.refused}" for r in scored))
+    chosen, reason = _better(fitted)
+    refused = {r.name: r.refused for r in scored if r.refused is not None}
+    if refused:
+        reason += "; refused: " + ", ".join(refused)
     model, notes = fit_rung(chosen.name, arr, spacing, **settings)
-    scores = {r.name: r.rmse for r in scored}
+    scores = {r.name: r.rmse for r in fitted}
     model = dataclasses.replace(model, fit={**model.fit, "chosen_by": reason,
-                                            "held_out_rmse_um": scores})
+                                            "held_out_rmse_um": scores,
+                                            **({"refused_rungs": refused} if refused else {})})
     return LadderChoice(tuple(scored), chosen.name, reason, model, tuple(notes))

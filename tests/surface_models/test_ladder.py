@@ -82,3 +82,29 @@ def test_the_reason_names_simpler_rungs_clearly_worse_and_richer_ones_no_better(
     chosen, why = ladder._better([dc.replace(rungs[2], name="eq18"),
                                   dc.replace(rungs[0], name="matern")])
     assert chosen.name == "matern" and "the simpler eq18 clearly worse" in why
+
+
+def test_a_rung_whose_fit_is_refused_is_named_and_the_others_still_choose(monkeypatch):
+    """mnt-2's left half (256 x 128 points): the eq 18 fit gave a model no circulant embedding
+    could draw, and the whole of --model auto stopped on it. The rung is now kept with its
+    reason and left out of the choice; with every rung refused, the choice is refused."""
+    import roughgp.surface_models.ladder as ladder
+    kernel = RotatedExponentialKernel(1.0, (6.0, 3.0), math.radians(20))
+    z = sample_grid(kernel, (96, 96), seed=3)[0]
+    real = ladder.fit_rung
+
+    def eq18_refused(name, *args, **kwargs):
+        if name == "eq18":
+            raise ValueError("the fit gives no model that can be simulated\nsecond line")
+        return real(name, *args, **kwargs)
+    monkeypatch.setattr(ladder, "fit_rung", eq18_refused)
+    seen = []
+    choice = choose_model(z, 1.0, n_blocks=6, rungs=("eq18", "psd"), progress=seen.append)
+    assert [r.name for r in seen] == ["eq18", "psd"]
+    assert seen[0].refused == "the fit gives no model that can be simulated"
+    assert seen[0].model is None and math.isnan(seen[0].rmse)
+    assert choice.chosen == "psd" and "refused: eq18" in choice.reason
+    assert set(choice.model.fit["held_out_rmse_um"]) == {"psd"}
+    assert choice.model.fit["refused_rungs"] == {"eq18": seen[0].refused}
+    with pytest.raises(ValueError, match="no rung of the ladder could be fitted: eq18: the fit"):
+        choose_model(z, 1.0, n_blocks=6, rungs=("eq18",))
