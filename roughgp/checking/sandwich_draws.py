@@ -16,7 +16,8 @@ normal approximation of the posterior predictive distribution under a flat prior
 
 A coordinate whose standard error exceeds :data:`UNDETERMINED_SD` (a factor of 10 per standard
 error for the log scales, 45 degrees for the lay) is one the map does not determine (typically
-a noise variance at its lower bound, 1e-8 of the surface's): it is held at the fit and the
+a noise variance at its lower bound, 1e-8 of the surface's): the lay or the noise is held at
+the fit (the variance or a length is refused, below) and the
 others are drawn from their marginal distribution (the covariance's other rows and columns);
 where the information is singular there (the fit's observed information, or the expected
 information of a model file), the other coordinates' covariance is that of the information
@@ -27,8 +28,11 @@ there means a huge torus), so a
 parameter the map barely determines cannot draw absurd surfaces.
 
 Where the map determines the variance or a length only within a factor of 2 per standard
-error (:data:`POWERLESS_SD`, the log's standard error), drawing them is refused: the draws
-within 3 standard errors would span a factor of 64 or more, from surfaces near white noise to
+error (:data:`POWERLESS_SD`, the log's standard error), or not at all, drawing is refused
+(holding such a parameter at the fit would make the draws look certain where the fit is not;
+the same AFM measurement in two formats, ``di-3.di`` and ``matrix-3.txt``, had its variance and
+lengths held in one and refused in the other before): the draws within 3 standard errors
+would span a factor of 64 or more, from surfaces near white noise to
 planes, and a check against such simulations cannot say no (the left halves of two AFM maps
 of ``data/``, 0.5 and 0.6 um wide with lengths near the field's side: lengths drawn from
 0.001 to 2.4 um). A length is drawn no longer than the fitted model's own or the map's
@@ -150,11 +154,12 @@ def sandwich_models(model: FittedModel, fit: WhittleFit | None, valid, n_models,
     if not free.any():
         raise ValueError("the fitted grid determines none of eq 18's parameters: no "
                          "predictive simulations can be drawn from its sandwich covariance")
-    loose = [(name, float(v)) for name, v, f in zip(_NAMES[:3], sd[:3], free[:3])
-             if f and v > POWERLESS_SD]
+    loose = [(name, float(v)) for name, v in zip(_NAMES[:3], sd[:3])
+             if not 0.0 < v <= POWERLESS_SD]   # 0: held by a singular information
     if loose:
         raise ValueError("the fit determines " + ", ".join(
-            f"{name} only within a factor of {math.exp(v):.3g}" for name, v in loose)
+            f"{name} only within a factor of {math.exp(v):.3g}" if v > 0 else
+            f"{name} not at all (its information is singular)" for name, v in loose)
             + " per standard error (at most 2 for the predictive draws): the draws within 3 "
             "standard errors would span a factor of 64 or more and the check could not say no; "
             "fit a larger part of the surface, or check the plug-in simulations")

@@ -57,7 +57,9 @@ MODELS = (
           "eq 18 as above, its simulations' parameters drawn from the fit's sandwich "
           "covariance (the fit's uncertainty carried)"),
     Model("auto", ("--model", "auto"),
-          "the ladder's choice by held-out prediction (fit ground --model auto)"),
+          "the ladder's choice (fit ground --model auto): the rung by held-out prediction, "
+          "its heights by the out-of-sample check on the fitted half's own halves (since "
+          "2026-12-06; the rows recorded on 2026-12-05 predate that: Gaussian heights)"),
     Model("sm-iaaft", ("--model", "sm", "--marginal", "iaaft"),
           "2-D spectral mixture, the measured heights (IAAFT)"),
     Model("psd-iaaft", ("--model", "psd", "--marginal", "iaaft"),

@@ -157,3 +157,16 @@ def test_lengths_the_map_barely_determines_are_refused_and_draws_stay_drawable()
     drawn = sandwich_models(ok, None, np.ones((128, 128), dtype=bool), 40, seed=0).models
     assert max(m.hyperparameters["lambda_a_um"] for m in drawn) <= 128.0
     assert math.log(2.0) == POWERLESS_SD
+
+
+def test_a_variance_or_length_the_map_does_not_determine_is_refused_not_held():
+    """di-3's left half (256 x 128 points, 10 x 5 um, lengths 13.7 and 13.0 um): the
+    variance's and the lengths' standard errors were beyond a factor of 10, so they were held
+    at the fit and only the angle drawn, while the same measurement read from matrix-3.txt, a
+    factor of 9.3, was refused. Beyond a factor of 2 both are refused now."""
+    far = FittedModel("eq18", {"variance_um2": 0.0029, "lambda_a_um": 13.7, "lambda_b_um": 13.0,
+                               "angle_deg": 33.3, "noise_variance_um2": 1e-11},
+                      (0.0390625, 0.0390625))
+    with pytest.raises(ValueError, match=r"determines variance_um2 (only within a factor of "
+                                         r"[0-9.]+|not at all)"):
+        sandwich_models(far, None, np.ones((256, 128), dtype=bool), 5, seed=0)
