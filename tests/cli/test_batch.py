@@ -250,7 +250,12 @@ def test_part_fits_a_half_and_checks_the_half_it_did_not_see(tmp_path, capsys):
     assert record["fit"]["part"]["name"] == "left"
     assert record["check"]["part"]["name"] == "left"
     assert record["held_out"]["part"]["name"] == "right"
-    assert "Sq" in record["held_out"]["outside"] and "Sq" not in record["check"]["outside"]
+    # the held-out half is three times rougher: its Sq far beyond every simulation's; the fitted
+    # half's Sq among them up to the scatter of 9 simulations of a 32 x 32 half (on one machine
+    # just above the highest: 1.365 against 1.351, so "not outside" would be a coin's verdict)
+    held, fitted = record["held_out"]["parameters"]["Sq"], record["check"]["parameters"]["Sq"]
+    assert held["outside"] and held["measured"] > 2.0 * held["high"]
+    assert fitted["low"] / 1.1 < fitted["measured"] < 1.1 * fitted["high"]
     (row,) = read_csv_table(out / "table.csv")
     assert row["part"] == "left" and int(row["held_out_count"]) > int(row["check_count"])
     assert row["held_out.Sq.outside"] == "True"
