@@ -210,14 +210,10 @@ def _fit(path, heights, options, seed, folder):
                                     **settings)
             model, notes = choice.model, choice.range_notes
             entry.update(chosen=choice.chosen, reason=choice.ladder.reason,
-                         held_out_rmse_um={r.name: r.rmse for r in choice.ladder.rungs
-                                           if r.refused is None},
-                         refused_rungs={r.name: r.refused for r in choice.ladder.rungs
-                                        if r.refused is not None},
+                         held_out_rmse_um=model.fit["held_out_rmse_um"],
+                         refused_rungs=model.fit.get("refused_rungs", {}),
                          heights=choice.marginal, heights_reason=choice.reason,
-                         out_of_sample_outside={c.marginal: (None if c.outside is None
-                                                             else len(c.outside))
-                                                for c in choice.candidates})
+                         out_of_sample_outside=model.fit["out_of_sample_outside"])
         else:
             model, notes = fit_rung(rung, z, heights.spacing, **settings)
     model_path = _save(model, folder)

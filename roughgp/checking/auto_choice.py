@@ -214,10 +214,9 @@ def choose_checked(z, spacing=1.0, *, marginal=None, n_simulations=N_SIMULATIONS
     if best.marginal != (marginal or "gaussian"):
         model, _ = fit_rung(ladder.chosen, arr, steps, marginal=best.marginal, seed=seed,
                             **fit_settings)
-        model = dataclasses.replace(model, fit={**model.fit,
-                                                "chosen_by": ladder.model.fit["chosen_by"],
-                                                "held_out_rmse_um":
-                                                    ladder.model.fit["held_out_rmse_um"]})
+        chosen_by = {k: v for k, v in ladder.model.fit.items()    # the ladder's own record
+                     if k in ("chosen_by", "held_out_rmse_um", "refused_rungs")}
+        model = dataclasses.replace(model, fit={**model.fit, **chosen_by})
     return CheckedChoice(ladder, tuple(candidates), best.marginal, reason,
                          _noted(model, best.marginal, reason, candidates), fitted_part,
                          held_out_part, n_simulations)
