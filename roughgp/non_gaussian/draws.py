@@ -57,13 +57,32 @@ class NonGaussianInfo:
         return (self.correlation_map.lower, 1.0)
 
 
-def _draw_clipped(acvf, shape, spacing, n_samples, seed, max_clipped_fraction):
-    """The approximate circulant draw of a non-positive-definite pre-distorted ACVF: negative
-    eigenvalues clipped (at most ``max_clipped_fraction`` of the trace), X rescaled to unit
-    variance so that the marginal moments stay exact."""
+_INPUTS: dict = {}  # the last few pre-distorted ACVFs by kernel, map and grid: a check draws
+_INPUTS_SIZE = 8    # 19-99 times from one model, and the embedding search is the costly part
+
+
+def _input_for(kernel, cmap, shape, spacing, method):
+    """The pre-distorted ACVF of ``kernel`` for this grid, the same object for the same kernel
+    state, map and grid (so its counts of unattainable lags go with the embedding that
+    :func:`~roughgp.sampling.sample_grid` caches), and a slot for its clipped embedding."""
+    fresh = PredistortedACVF(kernel, cmap, unattainable="clip")
+    identity = fresh.cache_key()
+    if identity is None:  # a plain function: nothing to tell whether it changed
+        return [fresh, None]
+    key = (identity, tuple(shape), tuple(np.asarray(spacing).tolist()), method)
+    if key not in _INPUTS:
+        _INPUTS[key] = [fresh, None]
+        while len(_INPUTS) > _INPUTS_SIZE:
+            _INPUTS.pop(next(iter(_INPUTS)))
+    return _INPUTS[key]
+
+
+def _clipped_embedding(acvf, shape, spacing, max_clipped_fraction):
+    """The approximate circulant embedding of a non-positive-definite pre-distorted ACVF:
+    negative eigenvalues clipped (at most ``max_clipped_fraction`` of the trace)."""
     try:
-        embedding = circulant.embed(acvf, shape, spacing, approximate=True,
-                                    max_clipped_fraction=max_clipped_fraction)
+        return circulant.embed(acvf, shape, spacing, approximate=True,
+                               max_clipped_fraction=max_clipped_fraction)
     except circulant.NotEmbeddableError as again:
         unattainable = (f" {acvf.unattainable_fraction:.1%} of the lags had target "
                         f"correlations below g(-1) = {acvf.cmap.lower:.3g} (down to "
@@ -73,6 +92,11 @@ def _draw_clipped(acvf, shape, spacing, n_samples, seed, max_clipped_fraction):
                          f"max_clipped_fraction={max_clipped_fraction!r} of the trace: this "
                          f"target ACVF and height distribution cannot be combined.{unattainable}"
                          f" ({again})") from None
+
+
+def _draw_clipped(embedding, n_samples, seed):
+    """X drawn from a clipped embedding, rescaled to unit variance so that the marginal
+    moments stay exact."""
     variance = float(np.sum(embedding.scale.astype(np.float64) ** 2))  # clipped torus' r_X(0)
     x = circulant.draw(embedding, n_samples, _rng(seed)) / math.sqrt(variance)
     info = SamplingInfo(method="circulant", reason="approximate: pre-distorted ACVF not "
@@ -123,20 +147,28 @@ def non_gaussian_surface(kernel, shape, *, skewness, kurtosis, spacing=1.0, seed
     variance = zero_lag_value(acvf, len(shape))
     johnson = johnson_for(skewness, kurtosis, variance)
     cmap = correlation_map(johnson, n_terms)
+    slot = None
     if predistortion:
-        input_acvf = PredistortedACVF(acvf, cmap, unattainable="clip")
+        slot = _input_for(kernel, cmap, shape, spacing, method)
+        input_acvf = slot[0]
     else:
         def input_acvf(lags):
             return np.asarray(acvf(lags), dtype=np.float64) / variance
     count = 1 if n_samples is None else n_samples
-    try:
-        x, sampling = sample_grid(input_acvf, shape, spacing=spacing, n_samples=count,
-                                  method=method, seed=seed, return_info=True)
-    except circulant.NotEmbeddableError:
-        if not predistortion or method not in ("circulant", "auto"):
-            raise
-        x, sampling = _draw_clipped(input_acvf, shape, spacing, count, seed,
-                                    max_clipped_fraction)
+    clipped = slot[1] if slot is not None else None
+    if clipped is None or clipped[0] != max_clipped_fraction:
+        try:
+            x, sampling = sample_grid(input_acvf, shape, spacing=spacing, n_samples=count,
+                                      method=method, seed=seed, return_info=True)
+            clipped = None
+        except circulant.NotEmbeddableError:
+            if not predistortion or method not in ("circulant", "auto"):
+                raise
+            clipped = (max_clipped_fraction, _clipped_embedding(input_acvf, shape, spacing,
+                                                                max_clipped_fraction))
+            slot[1] = clipped
+    if clipped is not None:
+        x, sampling = _draw_clipped(clipped[1], count, seed)
         warnings.warn(f"the pre-distorted ACVF is not non-negative definite on this grid: its "
                       f"circulant embedding's negative eigenvalues, {sampling.clipped_fraction:.2e}"
                       f" of the trace, were clipped (and X rescaled to unit variance), so the "

@@ -20,7 +20,7 @@ import scipy.stats
 
 from roughgp.common.checks import check_finite, check_positive
 from roughgp.non_gaussian.johnson import Johnson
-from roughgp.sampling.grid_sampler import acvf_of
+from roughgp.sampling.grid_sampler import acvf_of, kernel_identity
 
 # ------------------------------------------------------------------ the correlation map g
 
@@ -169,7 +169,8 @@ def zero_lag_value(acvf, dim):
 class PredistortedACVF:
     r"""The input ACVF :math:`\rho_X(\boldsymbol\tau) = g^{-1}(r(\boldsymbol\tau)/r(0))` as a
     function of lags of shape (..., D): what :func:`roughgp.sampling.sample_grid` takes as its
-    ``kernel`` (a plain function: the embedding is not cached between calls).
+    ``kernel``; ``cache_key()`` identifies it for that function's embedding cache when the
+    target is a roughgp kernel (a target given as a plain function: not cached).
 
     It counts the lags it is asked for whose target correlation is below g(-1)
     (``n_unattainable`` of ``n_evaluated``; they get rho_X = -1) and keeps the lowest target
@@ -177,6 +178,7 @@ class PredistortedACVF:
     """
 
     def __init__(self, target, cmap: CorrelationMap, unattainable="clip"):
+        self._kernel = target
         self.target = acvf_of(target, name="target")
         self.cmap = cmap
         self.unattainable = unattainable
@@ -200,6 +202,15 @@ class PredistortedACVF:
         if rho.size:
             self.min_target = min(self.min_target, float(rho.min()))
         return self.cmap.inverse(np.minimum(rho, 1.0), unattainable=self.unattainable)
+
+    def cache_key(self):
+        """The target kernel's identity and the correlation map's; None for a target given as
+        a plain function (its embedding is then not cached)."""
+        target = kernel_identity(self._kernel)
+        if target is None:
+            return None
+        return ("PredistortedACVF", target, tuple(self.cmap.coefficients.tolist()),
+                self.unattainable)
 
     @property
     def unattainable_fraction(self) -> float:

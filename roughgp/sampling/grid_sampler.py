@@ -316,14 +316,26 @@ def _draw_lanczos(kernel, shape, spacing, n_samples, rng, info, rank, device=Non
     return (root @ noise).T.cpu().numpy().reshape((n_samples, *shape))
 
 
-def _cache_key(kernel, shape, spacing, options):
+def kernel_identity(kernel):
+    """What identifies a kernel's ACVF for the caches: its type and hyperparameters, a
+    function's own ``cache_key()`` (e.g. the pre-distorted ACVF of a kernel), or None (a plain
+    function: no way to tell whether it changed)."""
+    own = getattr(kernel, "cache_key", None)
+    if callable(own):
+        return own()
     hyper = getattr(kernel, "hyperparameters", None)
     if hyper is None:
-        return None  # a plain function: no way to tell whether it changed
+        return None
     state = tuple((k, tuple(np.atleast_1d(as_numpy(v)).ravel().tolist()))
                   for k, v in hyper().items())
-    return (type(kernel).__name__, getattr(kernel, "nu", None), state, shape,
-            tuple(spacing.tolist()), options)
+    return (type(kernel).__name__, getattr(kernel, "nu", None), state)
+
+
+def _cache_key(kernel, shape, spacing, options):
+    identity = kernel_identity(kernel)
+    if identity is None:
+        return None
+    return (identity, shape, tuple(spacing.tolist()), options)
 
 
 def _embedding(kernel, shape, spacing, info, **options):

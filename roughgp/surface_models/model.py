@@ -161,17 +161,17 @@ class FittedModel:
                              "eq18 or sm)")
         if self.equation == "measured-psd":
             from roughgp.surface_models.measured_psd import TabulatedACVF
-            return TabulatedACVF(self)
+            return self._keyed(TabulatedACVF(self), self.spacing)
         if self.equation == "sm2d":
             from roughgp.surface_models.spectral_mixture import Mixture2D, sm2d_acvf
             mixture = Mixture2D.from_hyperparameters(hp)
-            return lambda lags: sm2d_acvf(lags, mixture)
+            return self._keyed(lambda lags: sm2d_acvf(lags, mixture))
         if self.equation == "eq18-matern":
             from roughgp.gp.acvf import rotated_matern
             scales = np.array([hp["lambda_a_um"], hp["lambda_b_um"]], dtype=np.float64)
             variance, angle, nu = float(hp["variance_um2"]), math.radians(hp["angle_deg"]), \
                 float(hp["nu"])
-            return lambda lags: rotated_matern(lags, variance, scales, angle, nu)
+            return self._keyed(lambda lags: rotated_matern(lags, variance, scales, angle, nu))
         if self.equation == "eq18":
             from roughgp.gp.kernels import RotatedExponentialKernel
             return RotatedExponentialKernel(hp["variance_um2"],
@@ -185,6 +185,12 @@ class FittedModel:
             means=np.asarray(hp["frequencies_per_um"], dtype=np.float64).reshape(q, 1),
             variances=np.asarray(hp["spectral_variances_per_um2"],
                                  dtype=np.float64).reshape(q, 1))
+
+    def _keyed(self, acvf, spacing=()):
+        """``acvf`` with this model's identity, so that its circulant embedding is cached
+        between draws (:mod:`roughgp.surface_models.keyed_acvf`)."""
+        from roughgp.surface_models.keyed_acvf import KeyedACVF, model_key
+        return KeyedACVF(acvf, model_key(self.equation, self.hyperparameters, spacing))
 
     def latent_variance(self) -> float:
         hp = self.hyperparameters

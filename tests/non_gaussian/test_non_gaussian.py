@@ -235,3 +235,36 @@ def test_surface_errors_and_limits():
     with pytest.raises(ValueError, match="max_clipped_fraction"):
         ng.non_gaussian_surface(smooth, (4096,), skewness=-1.5, kurtosis=6.0, seed=0,
                                 max_clipped_fraction=1e-6)
+
+
+def test_a_second_draw_of_one_kernel_reuses_its_embedding(monkeypatch):
+    """A check draws 19-99 surfaces from one Johnson model: the pre-distorted ACVF's embedding
+    is searched once (it took 22 s of a 24 s draw on a 256 x 128 field), the draws and the
+    reported figures are those of a fresh search, and another kernel state or map is not
+    served the cached one."""
+    from roughgp.non_gaussian import draws
+    from roughgp.sampling import grid_sampler
+    monkeypatch.setattr(grid_sampler, "_EMBEDDINGS", {})
+    monkeypatch.setattr(draws, "_INPUTS", {})
+    kernel = MaternKernel(nu=1.5, dim=2, variance=2.0, lengthscale=4.0)
+    first, info = ng.non_gaussian_surface(kernel, (48, 40), skewness=1.0, kurtosis=6.0, seed=3)
+    again, cached = ng.non_gaussian_surface(kernel, (48, 40), skewness=1.0, kurtosis=6.0,
+                                            seed=3)
+    assert not info.sampling.cached and cached.sampling.cached
+    np.testing.assert_array_equal(first, again)
+    assert cached.unattainable_fraction == info.unattainable_fraction
+    assert cached.sampling.torus_shape == info.sampling.torus_shape
+    other, _ = ng.non_gaussian_surface(kernel, (48, 40), skewness=1.0, kurtosis=6.0, seed=4)
+    assert not np.array_equal(first, other)
+    _, new_map = ng.non_gaussian_surface(kernel, (48, 40), skewness=1.0, kurtosis=8.0, seed=3)
+    longer = MaternKernel(nu=1.5, dim=2, variance=2.0, lengthscale=6.0)
+    _, new_kernel = ng.non_gaussian_surface(longer, (48, 40), skewness=1.0, kurtosis=6.0,
+                                            seed=3)
+    assert not new_map.sampling.cached and not new_kernel.sampling.cached
+
+    def plain(lags):  # a function of lags: nothing tells whether it changed, so not cached
+        return kernel.acvf(lags)
+
+    for _ in range(2):
+        _, fresh = ng.non_gaussian_surface(plain, (48, 40), skewness=1.0, kurtosis=6.0, seed=3)
+        assert not fresh.sampling.cached

@@ -206,3 +206,30 @@ def test_a_lay_is_reproduced_by_the_mixture_and_not_by_eq18():
     means = np.column_stack([hp["frequencies_x_per_um"], hp["frequencies_y_per_um"]])
     lay_frequency = np.array([math.cos(0.2), math.sin(0.2)]) / 16.0
     assert min(np.min(np.hypot(*(means - s * lay_frequency).T)) for s in (1, -1)) < 1 / n
+
+
+def test_draws_with_johnson_heights_search_the_embedding_once(monkeypatch):
+    """The model's ACVF says which model it is (roughgp.surface_models.keyed_acvf), so a
+    check's second draw reuses the first's embedding: mnt-2's half with this model and Johnson
+    heights took about 2 minutes per draw, 19 to 99 draws per check; another model's
+    hyperparameters are not served the cached one."""
+    from roughgp.non_gaussian import draws
+    from roughgp.sampling import grid_sampler
+    monkeypatch.setattr(grid_sampler, "_EMBEDDINGS", {})
+    monkeypatch.setattr(draws, "_INPUTS", {})
+    searched = []
+    embed = grid_sampler.circulant.embed
+    monkeypatch.setattr(grid_sampler.circulant, "embed",
+                        lambda *args, **kw: searched.append(1) or embed(*args, **kw))
+    model = _model(marginal={"skewness": 0.8, "kurtosis": 4.5})
+    first = model.simulate((48, 40), seed=3)
+    once = len(searched)   # 1, or 2 where the exact embedding failed and a clipped one was made
+    assert once >= 1
+    assert np.array_equal(first, model.simulate((48, 40), seed=3)) and len(searched) == once
+    assert not np.array_equal(first, model.simulate((48, 40), seed=4))
+    assert len(searched) == once
+    other = Mixture2D(TRUTH.weights * 2, TRUTH.means, TRUTH.bandwidths, TRUTH.angles,
+                      TRUTH.noise)
+    _model(other, marginal={"skewness": 0.8, "kurtosis": 4.5}).simulate((48, 40), seed=3)
+    assert len(searched) > once
+    assert model.kernel().cache_key() != _model(other).kernel().cache_key()
