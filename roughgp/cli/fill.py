@@ -203,7 +203,7 @@ def run(args) -> int:
         factors = result.band_factors[missing]
         if result.hole_band is not None:
             how = (f"{factors.min():.3g} to {factors.max():.3g} predictive sd, by size of hole "
-                   f"and depth, calibrated for holes up to "
+                   f"and depth and the roughness around the hole, calibrated for holes up to "
                    f"{result.hole_band.calibrated_width:.0f} points across")
         else:
             how = f"{result.band_factor:.3g} predictive sd (Gaussian, no self-check)"

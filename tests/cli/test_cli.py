@@ -369,7 +369,8 @@ def test_fill_checks_itself_chooses_nu_and_writes_the_calibrated_band(capsys, tm
     missing = np.isnan(z)
     assert np.all(half[~missing] == 0) and np.all(half[missing] > 0)
     assert "self-check: the band calibrated by hole size and depth" in err
-    assert "predictive sd, by size of hole and depth, calibrated for holes up to" in err
+    assert ("predictive sd, by size of hole and depth and the roughness around the hole, "
+            "calibrated for holes up to") in err
     # --no-check: no self-check, the Gaussian band
     code, _, err = _run(capsys, "fill", path, "--out", tmp_path / "plain.npy", "--band",
                         tmp_path / "plain-band.npy", "--no-check", "--block", 12, "--blocks", 6)

@@ -82,8 +82,11 @@ def test_holes_larger_than_the_map_can_hold_out_get_the_widened_factor():
                                   spacing=1.0, seed=0)
     assert band.uncalibrated_classes and band.calibrated_width < 30
     factor = band.factor_map(missing)
-    big = _disc(z.shape, (32, 32), 30)
-    assert np.all(factor[big & (hb.hole_depth(missing) > 2)] == band.widened_factor)
+    big = _disc(z.shape, (32, 32), 30) & (hb.hole_depth(missing) > 2)
+    # the untested factor, times the local roughness, never below the far-from-data one
+    np.testing.assert_allclose(factor[big], np.maximum(band.widened_factor * band.scale[big],
+                                                       band.marginal))
+    assert np.all(np.abs(np.log(band.scale[big])) < np.log(1.5))   # a stationary map
     assert band.widened_factor >= band.marginal > 1.0
     assert "untested, widened factor" in band.summary()
     assert np.all(factor[~missing] == 0) and np.all(factor[missing] > 0)
@@ -101,3 +104,40 @@ def test_the_fill_writes_the_band_of_the_depth_classes():
     plain = fill_measured_surface(np.where(missing, np.nan, z), seed=0, block=16, n_blocks=6)
     assert plain.hole_band is None
     assert math.isclose(plain.band_factors[missing][0], 1.959963984540054)
+
+
+def test_a_rough_zone_widens_the_band_there_and_not_elsewhere():
+    """A map whose right quarter is 4 times as rough (the flank of a land, a worn zone): the
+    fitted stationary model is too confident there and too cautious elsewhere. Scaled by the
+    local roughness (roughgp.filling.local_scale) the band holds about 95 % in both zones;
+    the factors by hole size alone miss most of the rough zone's heights."""
+    from roughgp.filling.local_fill import fill_gaps_locally
+    from roughgp.filling.local_scale import local_scale
+    from roughgp.filling.self_check import predictive_sd
+    n = 128
+    z, missing = _map(5, n=n)
+    z[:, 3 * n // 4:] *= 4.0
+    rough = np.zeros(z.shape, dtype=bool)
+    rough[:, 3 * n // 4 + 4:] = True
+    residual = np.where(missing, np.nan, z)
+    scale = local_scale(residual, missing)
+    assert np.median(scale[missing & rough]) > 2 * np.median(scale[missing & ~rough])
+    kernel = RotatedExponentialKernel(float(np.var(z)), (6.0, 6.0))
+    band = hb.calibrate_hole_band(residual, kernel, noise_variance=1e-4, spacing=1.0, seed=0)
+    fill = fill_gaps_locally(residual, kernel, noise_variance=1e-4, tile=16, margin=6)
+    error = np.abs(fill.mean - z)
+    s = predictive_sd(fill.sd, 1e-4)
+    factor = band.factor_map(missing)
+    unscaled = hb.HoleBand(*[getattr(band, f) for f in (
+        "factors", "copies", "held_out", "rounds", "marginal", "hole_classes", "deepest_hole",
+        "deepest_copy", "seconds")]).factor_map(missing)
+    for zone in (missing & rough, missing & ~rough):
+        assert 0.88 <= np.mean(error[zone] <= factor[zone] * s[zone]) <= 0.995
+    assert np.mean(error[missing & rough] <= unscaled[missing & rough] * s[missing & rough]) \
+        < 0.85
+
+
+def test_local_scale_refuses_a_missing_map_of_another_shape():
+    from roughgp.filling.local_scale import local_scale
+    with pytest.raises(ValueError, match="missing must have the shape"):
+        local_scale(np.zeros((8, 8)), np.zeros((8, 9), dtype=bool))
