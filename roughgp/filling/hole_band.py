@@ -62,6 +62,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.ndimage
 
+from roughgp.filling.hole_geometry import DEPTH_EDGES, depth_class, hole_class, hole_depth
 from roughgp.filling.local_fill import fill_gaps_locally
 from roughgp.filling.local_scale import local_scale
 from roughgp.filling.self_check import LEVEL, conformal_factor, predictive_sd
@@ -71,8 +72,6 @@ __all__ = ["DEPTH_EDGES", "COPIES_PER_CLASS", "POINTS_PER_CLASS", "MIN_COPIES", 
            "MAX_ROUNDS", "MAX_DEPTH_SHARE", "MAX_DEPTH", "MAX_HELD_OUT", "HoleBand", "hole_depth",
            "hole_class", "depth_class", "marginal_factor", "calibrate_hole_band"]
 
-#: the depth classes' edges in points: classes [1, 2), [2, 4), ... [64, inf)
-DEPTH_EDGES = (1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0)
 COPIES_PER_CLASS = 40   #: copies of holes drawn for each class of the map's holes, at least; ...
 POINTS_PER_CLASS = 1000  #: ... and enough for this many points (small holes: many copies)
 MIN_COPIES = 20         #: fewer copies reaching a depth class: that class is not calibrated
@@ -81,34 +80,6 @@ MAX_ROUNDS = 24        #: at most this many rounds (fills) per calibration
 MAX_DEPTH_SHARE = 1 / 6   #: a copied hole's depth at most this share of the shorter side ...
 MAX_DEPTH = 24        #: ... and at most this many points (holes about 48 points across)
 MAX_HELD_OUT = 100_000   #: the copies of all classes hold at most this many points together
-
-
-def hole_depth(missing) -> np.ndarray:
-    """The depth of each missing point: its distance in points to the nearest measured one
-    (0 at measured points)."""
-    missing = np.asarray(missing, dtype=bool)
-    if missing.all():
-        raise ValueError("missing marks every point: no measured point to measure depth from")
-    return scipy.ndimage.distance_transform_edt(missing)
-
-
-def depth_class(depth) -> np.ndarray:
-    """The index of each depth's class in :data:`DEPTH_EDGES` (-1 for depth < 1: measured)."""
-    return np.searchsorted(np.asarray(DEPTH_EDGES), np.asarray(depth, dtype=float),
-                           side="right") - 1
-
-
-def hole_class(missing, depth=None) -> tuple[np.ndarray, np.ndarray]:
-    """The holes (connected missing points, 8-neighbours): ``(labels, deepest)``, with
-    ``labels`` the map of hole numbers (0: measured) and ``deepest[k - 1]`` the largest depth of
-    hole ``k``. A hole's width across is about ``2 deepest`` points."""
-    missing = np.asarray(missing, dtype=bool)
-    depth = hole_depth(missing) if depth is None else depth
-    labels, n = scipy.ndimage.label(missing, structure=np.ones((3, 3)))
-    if n == 0:
-        return labels, np.zeros(0)
-    deepest = scipy.ndimage.maximum(depth, labels, index=np.arange(1, n + 1))
-    return labels, np.asarray(deepest, dtype=float)
 
 
 def marginal_factor(residual, variance, noise_variance, level=LEVEL) -> float:

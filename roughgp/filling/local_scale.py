@@ -27,6 +27,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.ndimage
 
+from roughgp.filling.hole_geometry import DEPTH_EDGES, depth_class, hole_class
+
 __all__ = ["RING", "PRIOR_PAIRS", "local_scale"]
 
 #: the window reaches this many points beyond the largest depth of a hole's class
@@ -44,8 +46,6 @@ def local_scale(residual, missing) -> np.ndarray:
         residual: form-removed heights; NaN (and ``missing``) points are not measured.
         missing: boolean map of the points to score or fill (their holes: connected sets).
     """
-    # imported here: hole_band imports this module
-    from roughgp.filling.hole_band import DEPTH_EDGES, depth_class, hole_class
     residual = np.asarray(residual, dtype=np.float64)
     missing = np.asarray(missing, dtype=bool)
     if residual.shape != missing.shape:

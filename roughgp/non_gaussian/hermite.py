@@ -20,7 +20,8 @@ import scipy.stats
 
 from roughgp.common.checks import check_finite, check_positive
 from roughgp.non_gaussian.johnson import Johnson
-from roughgp.sampling.grid_sampler import acvf_of, kernel_identity
+from roughgp.sampling.grid_sampler import acvf_of
+from roughgp.sampling.kernel_identity import kernel_identity
 
 # ------------------------------------------------------------------ the correlation map g
 

@@ -28,7 +28,6 @@ from typing import Callable
 
 import numpy as np
 
-from roughgp.common.checks import as_numpy
 from roughgp.common.checks import as_generator as _rng
 from roughgp.common.checks import check_size
 from roughgp.common.device import resolve as resolve_device
@@ -37,6 +36,7 @@ from roughgp.common.memory import host_free_bytes
 from roughgp.common.threads import blas_threads_for
 from roughgp.gp.numpy_kernels import is_additive
 from roughgp.sampling import block_levinson, circulant
+from roughgp.sampling.kernel_identity import kernel_identity
 
 __all__ = ["sample_grid", "grid_covariance", "covariance_index", "choose_method", "SamplingInfo",
            "acvf_of", "METHODS"]
@@ -314,21 +314,6 @@ def _draw_lanczos(kernel, shape, spacing, n_samples, rng, info, rank, device=Non
     info.details["rank"] = int(root.shape[-1])
     noise = torch.from_numpy(rng.standard_normal((root.shape[-1], n_samples))).to(device)
     return (root @ noise).T.cpu().numpy().reshape((n_samples, *shape))
-
-
-def kernel_identity(kernel):
-    """What identifies a kernel's ACVF for the caches: its type and hyperparameters, a
-    function's own ``cache_key()`` (e.g. the pre-distorted ACVF of a kernel), or None (a plain
-    function: no way to tell whether it changed)."""
-    own = getattr(kernel, "cache_key", None)
-    if callable(own):
-        return own()
-    hyper = getattr(kernel, "hyperparameters", None)
-    if hyper is None:
-        return None
-    state = tuple((k, tuple(np.atleast_1d(as_numpy(v)).ravel().tolist()))
-                  for k, v in hyper().items())
-    return (type(kernel).__name__, getattr(kernel, "nu", None), state)
 
 
 def _cache_key(kernel, shape, spacing, options):

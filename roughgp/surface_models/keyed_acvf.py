@@ -1,7 +1,7 @@
 """A model's ACVF as a function of lags that says which model it is, for the sampler's caches.
 
 :func:`roughgp.sampling.sample_grid` caches a circulant embedding by the kernel's identity
-(:func:`~roughgp.sampling.grid_sampler.kernel_identity`); a plain function has none, so every
+(:func:`~roughgp.sampling.kernel_identity.kernel_identity`); a plain function has none, so every
 draw from it searched its embedding again. A check draws 19 to 99 surfaces from one model: for
 the 2-D spectral mixture with Johnson heights on a 256 x 128 half that search took about 2
 minutes per draw. :class:`KeyedACVF` carries the model's equation and hyperparameters as its
