@@ -59,6 +59,7 @@ class NonGaussianInfo:
 
 _INPUTS: dict = {}  # the last few pre-distorted ACVFs by kernel, map and grid: a check draws
 _INPUTS_SIZE = 8    # 19-99 times from one model, and the embedding search is the costly part
+_INPUTS_BYTES = 2**30  # ... but older entries go once their clipped embeddings hold more
 
 
 def _input_for(kernel, cmap, shape, spacing, method):
@@ -72,9 +73,16 @@ def _input_for(kernel, cmap, shape, spacing, method):
     key = (identity, tuple(shape), tuple(np.asarray(spacing).tolist()), method)
     if key not in _INPUTS:
         _INPUTS[key] = [fresh, None]
-        while len(_INPUTS) > _INPUTS_SIZE:
-            _INPUTS.pop(next(iter(_INPUTS)))
+    _forget_old()
     return _INPUTS[key]
+
+
+def _forget_old():
+    """Drop the oldest entries beyond :data:`_INPUTS_SIZE` or :data:`_INPUTS_BYTES`."""
+    def held():
+        return sum(slot[1][1].nbytes for slot in _INPUTS.values() if slot[1] is not None)
+    while len(_INPUTS) > 1 and (len(_INPUTS) > _INPUTS_SIZE or held() > _INPUTS_BYTES):
+        _INPUTS.pop(next(iter(_INPUTS)))
 
 
 def _clipped_embedding(acvf, shape, spacing, max_clipped_fraction):
@@ -167,6 +175,7 @@ def non_gaussian_surface(kernel, shape, *, skewness, kurtosis, spacing=1.0, seed
             clipped = (max_clipped_fraction, _clipped_embedding(input_acvf, shape, spacing,
                                                                 max_clipped_fraction))
             slot[1] = clipped
+            _forget_old()
     if clipped is not None:
         x, sampling = _draw_clipped(clipped[1], count, seed)
         warnings.warn(f"the pre-distorted ACVF is not non-negative definite on this grid: its "
