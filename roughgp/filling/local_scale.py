@@ -15,11 +15,13 @@ the band held 86 % of the heights in holes 21 to 40 points across.
 
 the mean squared difference of measured neighbours (along x and y) in a window that reaches
 past the hole (half-width :data:`RING` points more than the largest depth of the hole's class),
-over that of the whole map (shrunk toward 1 by :data:`PRIOR_PAIRS`). The band's scores are divided by it where the band is calibrated
-and multiplied by it where it is used (a normalised, locally adaptive split-conformal band:
-Lei, G'Sell, Rinaldo, Tibshirani & Wasserman, 2018, section 5.2): the calibration stays valid
-for any such scale computed alike on the copies and on the holes, and a scale that follows the
-errors makes the band narrower where the map is smooth and wider where it is rough.
+over that of the whole map (shrunk toward 1 by :data:`PRIOR_PAIRS`). The band's scores are
+divided by it where the band is calibrated and multiplied by it where it is used (a
+normalised, locally weighted split-conformal band: Lei, G'Sell, Rinaldo, Tibshirani &
+Wasserman, "Distribution-free predictive inference for regression", JASA 2018): the
+calibration stays valid for any such scale computed alike on the copies and on the holes, and
+a scale that follows the errors makes the band narrower where the map is smooth and wider
+where it is rough.
 """
 
 from __future__ import annotations
