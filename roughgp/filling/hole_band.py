@@ -25,8 +25,8 @@ depth:
    anywhere at least half of it is measured: not preferably clear of the map's own holes,
    which gather where the surface is hardest), each round filled by the moving-window
    kriging of the fill itself (:func:`~roughgp.filling.local_fill.fill_gaps_locally`, the
-   kernel fitted on the map), and each held-out point scored, :math:`|e|/s` with :math:`s` the predictive sd of a
-   new measurement, times the map's roughness around the copy
+   kernel fitted on the map), and each held-out point scored, :math:`|e|/s` with :math:`s`
+   the predictive sd of a new measurement times the map's roughness around the copy
    (:func:`~roughgp.filling.local_scale.local_scale`, the copies held out), with its depth
    (the distance to the nearest point still measured) and its copy's class (the copy's
    largest depth, as placed).
