@@ -18,13 +18,14 @@ import numpy as np
 __all__ = ["KeyedACVF", "model_key"]
 
 
-def model_key(equation: str, hyperparameters: dict, spacing=()) -> tuple:
+def model_key(equation: str, hyperparameters: dict, context=()) -> tuple:
     """The identity of a model's ACVF: its equation, a digest of its hyperparameters (any
-    nesting of numbers and lists) and the spacing its lags are read at."""
+    nesting of numbers and lists) and ``context``, the numbers beyond them that the ACVF
+    depends on (a tabulated ACVF: the spacing and shape of its table)."""
     text = json.dumps(hyperparameters, sort_keys=True,
                       default=lambda value: np.asarray(value).tolist())
     return (equation, hashlib.sha256(text.encode()).hexdigest(),
-            tuple(float(d) for d in spacing))
+            tuple(float(d) for d in context))
 
 
 class KeyedACVF:

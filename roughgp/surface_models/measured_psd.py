@@ -29,7 +29,7 @@ import scipy.ndimage
 
 from roughgp.surface_models import psd_table
 
-__all__ = ["TabulatedACVF", "draw_psd_model", "band_variance"]
+__all__ = ["TabulatedACVF", "draw_psd_model", "band_variance", "fitted_shape"]
 
 
 def _table(model):
@@ -38,7 +38,10 @@ def _table(model):
             float(hp["frequency_max_per_um"]))
 
 
-def _fitted_shape(model):
+def fitted_shape(model):
+    """The shape of the field the measured PSD was fitted on (the model file's ``data.shape``;
+    else the field whose lowest frequency is the model's ``frequency_min_per_um``): the grid
+    its ACVF is tabulated on."""
     shape = model.data.get("shape") if isinstance(model.data, dict) else None
     if isinstance(shape, list) and len(shape) == 2 and all(isinstance(n, int) and n > 1
                                                            for n in shape):
@@ -51,7 +54,7 @@ def band_variance(model) -> float:
     """The variance of ``model``'s PSD over the measured band, on the DFT grid of the field it
     was fitted on (um^2)."""
     table, f_min, f_max = _table(model)
-    return psd_table.table_variance(table, f_min, f_max, model.spacing, _fitted_shape(model))
+    return psd_table.table_variance(table, f_min, f_max, model.spacing, fitted_shape(model))
 
 
 def draw_psd_model(model, shape, spacing, rng, count, transform=None):
@@ -79,7 +82,7 @@ class TabulatedACVF:
     def _grid_for(self, reach):
         if self._grid is None or any(r >= n // 2 for r, n in zip(reach, self._grid.shape)):
             table, f_min, f_max = _table(self.model)
-            field = tuple(max(int(r) + 2, n) for r, n in zip(reach, _fitted_shape(self.model)))
+            field = tuple(max(int(r) + 2, n) for r, n in zip(reach, fitted_shape(self.model)))
             self._grid = psd_table.acvf_grid(table, f_min, f_max, field, self.spacing)
         return self._grid
 

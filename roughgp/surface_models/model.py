@@ -160,8 +160,9 @@ class FittedModel:
                              "predictive draws need a stationary model (fit one with --model "
                              "eq18 or sm)")
         if self.equation == "measured-psd":
-            from roughgp.surface_models.measured_psd import TabulatedACVF
-            return self._keyed(TabulatedACVF(self), self.spacing)
+            from roughgp.surface_models.measured_psd import TabulatedACVF, fitted_shape
+            # its lags are read on the grid of the fitted field, at the model's spacing
+            return self._keyed(TabulatedACVF(self), (*self.spacing, *fitted_shape(self)))
         if self.equation == "sm2d":
             from roughgp.surface_models.spectral_mixture import Mixture2D, sm2d_acvf
             mixture = Mixture2D.from_hyperparameters(hp)
@@ -186,11 +187,12 @@ class FittedModel:
             variances=np.asarray(hp["spectral_variances_per_um2"],
                                  dtype=np.float64).reshape(q, 1))
 
-    def _keyed(self, acvf, spacing=()):
-        """``acvf`` with this model's identity, so that its circulant embedding is cached
-        between draws (:mod:`roughgp.surface_models.keyed_acvf`)."""
+    def _keyed(self, acvf, context=()):
+        """``acvf`` with this model's identity (and ``context``: the numbers beyond the
+        hyperparameters that it depends on), so that its circulant embedding is cached between
+        draws (:mod:`roughgp.surface_models.keyed_acvf`)."""
         from roughgp.surface_models.keyed_acvf import KeyedACVF, model_key
-        return KeyedACVF(acvf, model_key(self.equation, self.hyperparameters, spacing))
+        return KeyedACVF(acvf, model_key(self.equation, self.hyperparameters, context))
 
     def latent_variance(self) -> float:
         hp = self.hyperparameters

@@ -233,3 +233,15 @@ def test_draws_with_johnson_heights_search_the_embedding_once(monkeypatch):
     _model(other, marginal={"skewness": 0.8, "kurtosis": 4.5}).simulate((48, 40), seed=3)
     assert len(searched) > once
     assert model.kernel().cache_key() != _model(other).kernel().cache_key()
+
+
+def test_a_tabulated_acvf_is_keyed_by_its_table_too():
+    """The measured PSD's ACVF is read on the grid of the field it was fitted on: two models
+    with the same PSD fitted on fields of other shapes are other ACVFs for the cache."""
+    from roughgp.surface_models.keyed_acvf import model_key
+    hp = {"psd_um4": [[1.0, 2.0], [3.0, 4.0]], "frequency_min_per_um": 0.01}
+    assert model_key("measured-psd", hp, (1.0, 1.0, 64, 64)) != \
+        model_key("measured-psd", hp, (1.0, 1.0, 64, 128))
+    assert model_key("measured-psd", hp, (1.0, 1.0, 64, 64)) == \
+        model_key("measured-psd", dict(reversed(list(hp.items()))), (1.0, 1.0, 64, 64))
+    assert model_key("measured-psd", hp) != model_key("sm2d", hp)
