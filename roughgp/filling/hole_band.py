@@ -309,7 +309,8 @@ def calibrate_hole_band(residual, kernel, *, noise_variance, spacing, fill_missi
     if not to_fill.any() or not measured.any():
         return HoleBand(empty, (0,) * n, 0, 0, marginal, (), 0.0, 0.0,
                         time.perf_counter() - start)
-    labels, deepest = hole_class(to_fill)
+    to_fill_depth = hole_depth(to_fill)
+    labels, deepest = hole_class(to_fill, to_fill_depth)
     hole_classes = tuple(int(h) for h in np.unique(depth_class(deepest)))
     max_depth = min(MAX_DEPTH_SHARE * min(residual.shape), MAX_DEPTH)
     rounds = _place_rounds(measured, _hole_shapes(labels, deepest, max_depth, rng), rng)
@@ -323,7 +324,7 @@ def calibrate_hole_band(residual, kernel, *, noise_variance, spacing, fill_missi
                                  spacing=spacing, mask=held, predict=held, tile=tile,
                                  margin=margin)
         depth = hole_depth(~measured | held)
-        scale = local_scale(np.where(held, np.nan, residual), ~measured | held)
+        scale = local_scale(residual, ~measured | held, depth)
         for points in placed:
             s = predictive_sd(fill.sd.flat[points], noise_variance) * scale.flat[points]
             scores.append(np.abs(fill.mean.flat[points] - residual.flat[points])
@@ -350,5 +351,6 @@ def calibrate_hole_band(residual, kernel, *, noise_variance, spacing, fill_missi
                     float(deepest.max()), 0.0, 0.0)
     widest = max([d for d in copy_depths if int(depth_class(d)) in band.calibrated_classes],
                  default=0.0)
-    return dataclasses.replace(band, deepest_copy=widest, scale=local_scale(residual, to_fill),
+    return dataclasses.replace(band, deepest_copy=widest,
+                               scale=local_scale(residual, to_fill, to_fill_depth),
                                seconds=time.perf_counter() - start)

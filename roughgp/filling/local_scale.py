@@ -40,13 +40,14 @@ RING = 4
 PRIOR_PAIRS = 8
 
 
-def local_scale(residual, missing) -> np.ndarray:
+def local_scale(residual, missing, depth=None) -> np.ndarray:
     """:math:`\\ell` at each point of ``missing`` (1 elsewhere): the local roughness around its
     hole over the map's (module docstring).
 
     Args:
         residual: form-removed heights; NaN (and ``missing``) points are not measured.
         missing: boolean map of the points to score or fill (their holes: connected sets).
+        depth: ``hole_depth(missing)`` where the caller has it already (else computed).
     """
     residual = np.asarray(residual, dtype=np.float64)
     missing = np.asarray(missing, dtype=bool)
@@ -69,7 +70,7 @@ def local_scale(residual, missing) -> np.ndarray:
     if counts.sum() == 0 or squares.sum() == 0:
         return out
     overall = squares.sum() / counts.sum()
-    labels, deepest = hole_class(missing)
+    labels, deepest = hole_class(missing, depth)
     classes = np.concatenate([[-1], depth_class(deepest)])[labels]
     for c in np.unique(classes[missing]):
         reach = DEPTH_EDGES[c + 1] if c + 1 < len(DEPTH_EDGES) else 2 * DEPTH_EDGES[c]
