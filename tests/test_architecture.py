@@ -202,6 +202,21 @@ def test_no_module_is_over_500_lines():
     assert not long, f"modules over 500 lines: {long}"
 
 
+def test_every_module_compiles_without_a_warning():
+    """An invalid escape in a docstring (``\\ell`` written ``\ell``) is a SyntaxWarning on
+    import today and an error in a later Python; it also reaches a user's terminal as a stray
+    ``warning:`` line from a command that compiles the module on first use."""
+    import warnings
+    noisy = {}
+    for module, path in MODULES.items():
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            compile(path.read_text(encoding="utf-8"), str(path), "exec")
+        if caught:
+            noisy[module] = str(caught[0].message)
+    assert not noisy, f"modules that compile with a warning: {noisy}"
+
+
 def test_the_readme_layout_names_every_group():
     readme = (ROOT.parent / "README.md").read_text(encoding="utf-8")
     for group in LAYERS:

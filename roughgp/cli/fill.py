@@ -102,8 +102,9 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
 
 def run(args) -> int:
     """``roughgp fill FILE``: fill the unmeasured points of a surface with the GP posterior."""
-    from roughgp.cli.options import load_model
     from roughgp.api import fill
+    from roughgp.cli.options import load_model
+    from roughgp.cli.pace import Pace
     out, sd_out, band_out, flagged_out = check_outputs(
         ("--out", args.out, "heights"), ("--sd", args.sd, "heights"),
         ("--band", args.band, "heights"), flagged_output(args),
@@ -145,7 +146,7 @@ def run(args) -> int:
                       block=args.block, n_blocks=args.blocks,
                       form=None if args.form == "none" else args.form, degree=args.degree,
                       axis=args.axis, method=args.method, nu=nu, self_check=args.check,
-                      device=args.device)
+                      device=args.device, progress=Pace("windows of the fill", None))
     except ValueError as exc:
         raise UsageError(f"{args.file}: {exc}") from None
     fit, fill = result.fit, result.gaps
@@ -201,10 +202,14 @@ def run(args) -> int:
             f"measured ones; median {np.median(sd):.3g} um, largest {sd.max():.3g} um)")
     if band_out is not None:
         factors = result.band_factors[missing]
-        if result.hole_band is not None:
+        if result.hole_band is not None and result.hole_band.calibrated_classes:
             how = (f"{factors.min():.3g} to {factors.max():.3g} predictive sd, by size of hole "
                    f"and depth and the roughness around the hole, calibrated for holes up to "
                    f"{result.hole_band.calibrated_width:.0f} points across")
+        elif result.hole_band is not None:
+            how = (f"{factors.min():.3g} to {factors.max():.3g} predictive sd: the untested, "
+                   f"widened factor times the roughness around each hole, no hole size "
+                   f"calibrated on this map")
         else:
             how = f"{result.band_factor:.3g} predictive sd (Gaussian, no self-check)"
         write_heights(band_out, result.band, spacing,

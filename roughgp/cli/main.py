@@ -76,7 +76,8 @@ def main(argv=None) -> int:
             f"range")
         return 2
     except MemoryError:  # a safety net: sizes are budgeted before the large arrays
-        err(f"{name}: error: out of memory: use a smaller input or size")
+        err(f"{name}: error: out of memory: the input, or a size asked for, is too large for this "
+            f"machine's memory")
         return 2
     except Terminated:
         err(f"{name}: terminated")

@@ -29,21 +29,25 @@ def duration(seconds: float) -> str:
 
 class Pace:
     """A progress callback ``(done, total)`` that, after the first unit, warns once when the
-    ``total`` units of ``what`` would take longer than :data:`LONG_RUN_S` at that pace, naming
-    ``shorter`` (the options that shorten the run); ``then`` (a progress callback) is called
-    after it."""
+    ``total`` units of ``what`` would take longer than :data:`LONG_RUN_S` at that pace (timed
+    from the call with ``done`` 0 where there is one, else from its creation), naming
+    ``shorter`` (the options that shorten the run; None where no option does); ``then`` (a
+    progress callback) is called after it."""
 
-    def __init__(self, what: str, shorter: str, then=None):
+    def __init__(self, what: str, shorter: str | None, then=None):
         self.what, self.shorter, self.then = what, shorter, then
         self.start = time.perf_counter()
         self.estimate = None
 
     def __call__(self, done: int, total: int) -> None:
-        if self.estimate is None:
+        if done == 0:   # the run's units start now (what came before is not their pace)
+            self.start = time.perf_counter()
+        elif self.estimate is None:
             self.estimate = (time.perf_counter() - self.start) / max(done, 1) * total
             if self.estimate > LONG_RUN_S:
+                shorter = f"{self.shorter} make it shorter; " if self.shorter else ""
                 err(f"warning: {total} {self.what} take about {duration(self.estimate)} at the "
-                    f"pace of the first ({self.shorter} make it shorter; Ctrl-C stops it)")
+                    f"pace of the first ({shorter}Ctrl-C stops it)")
         if self.then is not None:
             self.then(done, total)
 

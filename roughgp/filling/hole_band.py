@@ -107,7 +107,7 @@ class HoleBand:
         deepest_hole: the largest depth among the holes to fill (points).
         deepest_copy: the largest depth among the held-out copies of calibrated classes.
         seconds: wall time.
-        scale: the local roughness :math:`\ell` at each point to fill
+        scale: the local roughness :math:`\\ell` at each point to fill
             (:func:`~roughgp.filling.local_scale.local_scale`; 1 elsewhere), by which the
             factors multiply there: the scores were divided by it on the copies (None: 1).
     """

@@ -134,7 +134,7 @@ class MeasuredFill:
 def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, n_blocks=12,
                           form="plane", degree=2, axis="auto", model=None,
                           mask=None, method="local", tile=16, margin=6, nu=0.5,
-                          self_check=False, device=None) -> MeasuredFill:
+                          self_check=False, device=None, progress=None) -> MeasuredFill:
     """Remove the form, fit eq 18 on the measured points (or use ``model``), fill the NaN
     (and ``mask``-ed) points, add the form back.
 
@@ -162,6 +162,7 @@ def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, 
         method: ``"local"`` (moving-window kriging, ``tile`` and ``margin`` in points) or
             ``"global"`` (module docstring).
         device: ``"global"`` only: None (numpy) or a torch device (:mod:`roughgp.common.device`).
+        progress: ``"local"`` only: a callback ``(done, total)`` after each window of the fill.
     """
     z = surface_array(z)
     missing = np.isnan(z)
@@ -225,7 +226,8 @@ def fill_measured_surface(z, *, spacing=1.0, n_samples=16, seed=None, block=24, 
                                         margin=margin)
     if method == "local":
         gaps = fill_gaps_locally(residual, kernel, noise_variance=noise_variance,
-                                 spacing=(dy, dx), mask=mask, tile=tile, margin=margin)
+                                 spacing=(dy, dx), mask=mask, tile=tile, margin=margin,
+                                 progress=progress)
     else:
         gaps = fill_gaps(residual, kernel, noise_variance=noise_variance, spacing=(dy, dx),
                          mask=mask, n_samples=n_samples, seed=seed, device=device)

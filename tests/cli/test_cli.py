@@ -356,6 +356,21 @@ def test_fill_writes_the_filled_surface_and_its_sd(capsys, tmp_path):
     assert np.all(spread[~missing] == 0) and np.all(spread[missing] > 0)
 
 
+def test_a_band_with_no_hole_size_calibrated_says_so_not_up_to_0_points(capsys, tmp_path):
+    """One hole too large for the map to hold out a copy of (a FRT map of 27 % dropouts said
+    "calibrated for holes up to 0 points across")."""
+    from roughgp.models import surfaces
+    z = surfaces.ground((96, 96), variance=1.0, lengthscales=(4.0, 2.0), angle=0.0,
+                        noise_variance=0.01, seed=2)
+    z[12:84, 12:84] = np.nan
+    np.save(tmp_path / "big-hole.npy", z)
+    code, _, err = _run(capsys, "fill", tmp_path / "big-hole.npy", "--out", tmp_path / "f.npy",
+                        "--band", tmp_path / "b.npy", "--block", 12, "--blocks", 6)
+    assert code == 0, err
+    assert "band not calibrated by hole size" in err
+    assert "no hole size calibrated on this map" in err and "up to 0 points" not in err
+
+
 def test_fill_checks_itself_chooses_nu_and_writes_the_calibrated_band(capsys, tmp_path):
     path, z = _holed_surface(tmp_path)
     out, band = tmp_path / "filled.npy", tmp_path / "band.npy"
