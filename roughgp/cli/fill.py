@@ -158,6 +158,14 @@ def run(args) -> int:
     for smoothness, check in result.self_checks.items():
         chosen = " <- used" if len(result.self_checks) > 1 and smoothness == result.nu else ""
         err(f"self-check: {check.summary()}{chosen}")
+    if result.self_check is not None and result.self_check.verdict == "linear":
+        tried = [] if args.spurious else ["--spurious flags spikes and pits"]
+        tried += [] if args.nu == "auto" or args.model else ["--nu auto tries smoother kernels"]
+        tried += ["another --form removes another form"]
+        err(f"note: linear interpolation filled the held-out points better than the GP: the "
+            f"model misses something of this surface (spikes, steps, a form left in); "
+            f"{'; '.join(tried)}. The band is calibrated on the GP's own errors all the "
+            f"same")
     if result.hole_band is not None:
         err(f"self-check: the {result.hole_band.summary(float(min(dy, dx)))}")
     if fit is not None:

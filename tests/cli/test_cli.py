@@ -371,6 +371,30 @@ def test_a_band_with_no_hole_size_calibrated_says_so_not_up_to_0_points(capsys, 
     assert "no hole size calibrated on this map" in err and "up to 0 points" not in err
 
 
+def test_a_fill_that_loses_to_linear_interpolation_says_so_with_options_fill_has(
+        capsys, tmp_path, monkeypatch):
+    """A FRT map with spikes: the self-check's GP erred 8.1 um RMS against linear
+    interpolation's 2.9; the command said "the GP worse" and went on without a word of why or
+    what to try."""
+    import re
+
+    from roughgp.filling.self_check import FillSelfCheck
+    monkeypatch.setattr(FillSelfCheck, "verdict", property(lambda self: "linear"))
+    path, _ = _holed_surface(tmp_path)
+    code, _, err = _run(capsys, "fill", path, "--out", tmp_path / "f.npy", "--block", 12,
+                        "--blocks", 6)
+    assert code == 0, err
+    note = next(line for line in err.splitlines() if line.startswith("note: linear"))
+    assert "--spurious" in note and "--nu auto" in note
+    _, help_text, _ = _run(capsys, "fill", "--help")
+    named = set(re.findall(r"--[a-z-]+", note))
+    assert named and all(option in help_text for option in named), named
+    code, _, err = _run(capsys, "fill", path, "--out", tmp_path / "g.npy", "--block", 12,
+                        "--blocks", 6, "--nu", "auto", "--force")
+    note = next(line for line in err.splitlines() if line.startswith("note: linear"))
+    assert "--nu auto" not in note   # what was given is not suggested again
+
+
 def test_fill_checks_itself_chooses_nu_and_writes_the_calibrated_band(capsys, tmp_path):
     path, z = _holed_surface(tmp_path)
     out, band = tmp_path / "filled.npy", tmp_path / "band.npy"
