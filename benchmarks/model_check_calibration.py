@@ -27,16 +27,6 @@ checked against the fitted model with B refitted bootstrap copies, about 25-50 s
 
     OMP_NUM_THREADS=1 python benchmarks/model_check_calibration.py --bootstrap 19 --cases 50
     python benchmarks/model_check_calibration.py --bootstrap 19 --report
-
-``--recheck NAME ...`` counts the named parameters' ranks again on the recorded cases, after a
-change of how the check compares them (``roughgp.experiments.model_check.recheck``: the same
-measurements, fits and seeded draws, no refit), into ``--out``; ``--merge PART ...`` then puts
-those records in place of the recorded ones with the same index (Std, 2026-12-03, when the check
-began to frame directions by their pooled axial mean):
-
-    OMP_NUM_THREADS=1 python benchmarks/model_check_calibration.py --recheck Std --first 0 \
-        --cases 275 --out /tmp/std-0.jsonl
-    python benchmarks/model_check_calibration.py --merge /tmp/std-0.jsonl /tmp/std-1.jsonl
 """
 
 from __future__ import annotations
@@ -50,7 +40,6 @@ import time
 from pathlib import Path
 
 from roughgp.checking.model_check import STD_FRAME
-from roughgp.common.atomic import atomic_output
 from roughgp.experiments import bootstrap_calibration as bc
 from roughgp.experiments import check_calibration as cc
 from roughgp.experiments import model_check as mc
@@ -113,8 +102,8 @@ def run(args) -> None:
     _through_the_engine(args, indices, out)
 
 
-#: what differs from run to run in a record: the timings (and the mark of a recheck)
-_VARYING = ("case_seconds", "fit_seconds", "rechecked")
+#: what differs from run to run in a record: the timings
+_VARYING = ("case_seconds", "fit_seconds")
 
 
 def _comparable(record) -> dict:
@@ -170,44 +159,6 @@ def _read(path) -> list:
     """The records of a JSONL file, by case index (the engine appends them as they end)."""
     records = [json.loads(line) for line in Path(path).read_text().splitlines() if line]
     return sorted(records, key=lambda r: r["index"])
-
-
-def recheck(args) -> None:
-    """Count ``args.recheck``'s ranks again on the recorded cases ``first .. first + cases``."""
-    if not args.out:
-        raise SystemExit("--recheck needs --out (the recorded file is not written over)")
-    source = _default_path(args.size, "jsonl")
-    out = Path(args.out)
-    if out.resolve() == source.resolve():
-        raise SystemExit("--out must not be the recorded file itself; --merge puts it there")
-    done = {r["index"] for r in _read(out)} if out.exists() else set()
-    for record in _read(source):
-        if not args.first <= record["index"] < args.first + args.cases or \
-                record["index"] in done:
-            continue
-        start = time.perf_counter()
-        again = mc.recheck(record, args.recheck, seed=args.seed)
-        with out.open("a", encoding="utf-8") as stream:
-            stream.write(json.dumps(again) + "\n")
-        print(f"case {again['index']}: {time.perf_counter() - start:.1f} s; outside (fitted) "
-              f"{again['ranks_fitted']['outside']}", flush=True)
-
-
-def merge(args) -> None:
-    """Put the records of ``args.merge`` in place of the recorded ones with the same index."""
-    path = _default_path(args.size, "jsonl")
-    records = {r["index"]: r for r in _read(path)}
-    replaced = 0
-    for part in args.merge:
-        for r in _read(part):
-            if r["index"] not in records:
-                raise SystemExit(f"{part}: case {r['index']} is not in {path.name}")
-            records[r["index"]] = r
-            replaced += 1
-    with atomic_output(path) as partial:
-        partial.write_text("".join(json.dumps(records[i]) + "\n" for i in sorted(records)),
-                           encoding="utf-8")
-    print(f"{replaced} of {len(records)} records replaced in {path}")
 
 
 def _markdown(cal) -> list:
@@ -288,8 +239,8 @@ def report(args) -> None:
             f"`{path.name}` by `python benchmarks/model_check_calibration.py --report`; "
             f"{len(records)} synthetic measurements, {full.n_draws} simulations per check "
             f"(the first {full.n_simulations} make the plain check), seed 0; "
-            f"{seconds:.0f} s summed over the cases' wall times (they may have run in "
-            f"parallel parts) on the shared 2-core machine.",
+            f"{seconds:.0f} s summed over the cases' wall times (the cases ran side by side "
+            f"on the engine's workers) on the shared 2-core machine.",
             "",
             "0/1: the plain check's share outside; RB: the Rao-Blackwellised share with its "
             "95 % interval; PIT p: Kolmogorov-Smirnov p-value of the ranks' uniformity; "
@@ -298,13 +249,6 @@ def report(args) -> None:
             f"For a calibrated check one parameter's share scatters by (1 sd) "
             f"{100 * full.binomial_sd():.1f} % (0/1) and {100 * full.rb_sd():.1f} % (RB) over "
             f"{len(records)} cases."]
-    rechecked = sorted({n for r in records for n in r.get("rechecked", [])})
-    if rechecked:
-        count = sum(bool(r.get("rechecked")) for r in records)
-        text.append(f"The ranks of {', '.join(rechecked)} were counted again on {count} of the "
-                    f"cases by `--recheck` (the same measurements, fits and seeded draws, the "
-                    f"check as it is now: Std framed by the pooled axial mean of the measured "
-                    f"and simulated directions since 2026-12-03).")
     subsets = [(f"The first {min(50, len(records))} cases", full.first(min(50, len(records))))]
     if len(records) > 50:
         subsets.append((f"All {len(records)} cases", full))
@@ -332,19 +276,11 @@ def main(argv=None) -> None:
                         help="an existing Dask scheduler instead of a local cluster")
     parser.add_argument("--verify", type=int, metavar="N",
                         help="rerun the first N cases and compare them with the recorded ones")
-    parser.add_argument("--recheck", nargs="+", metavar="NAME",
-                        help="count these parameters' ranks again on the recorded cases")
-    parser.add_argument("--merge", nargs="+", metavar="PART",
-                        help="put --recheck's records in place of the recorded ones")
     args = parser.parse_args(argv)
     if args.report:
         report(args)
     elif args.verify:
         verify(args)
-    elif args.recheck:
-        recheck(args)
-    elif args.merge:
-        merge(args)
     else:
         run(args)
 

@@ -41,7 +41,8 @@ check's first simulation (ties on most parameters, where its plain check cannot 
 One case in the recorded run; the fitted model's check is not affected.
 
 Measured (``benchmarks/model_check_calibration.py``: 550 synthetic measurements of 64 x 64,
-99 simulations per check, seed 0; 7529 s of case time on the shared 2-core machine; records
+99 simulations per check, seed 0, one run on the engine's 2 workers; 5005 s of case time on the
+shared 2-core machine, 2026-12-06; records
 and table in ``benchmarks/results/model_check_calibration_64.*``): outside on average over the
 13 parameters in 10.9 % of the cases against the true model and 9.9 % against the fitted one
 (Rao-Blackwellised; the plain 0/1 count 11.0 % and 10.0 %). Every parameter's share lies within
@@ -56,8 +57,9 @@ expected), the fit finding the variance (median 0.944 of the true one) and the l
 scatter of 0.077 against 0.13 for the variance alone. Std, framed by the pooled axial mean
 (:func:`~roughgp.checking.model_check.axial_frame`): 10.9 % against the true model, 11.6 % on
 the isotropic model's 110 cases (the earlier frame, centred on the measured direction, never
-said outside there), its ranks uniform (KS p 0.35); Std's ranks were counted again on the
-recorded cases and fits (:func:`recheck`), the other parameters' are as first recorded.
+said outside there), its ranks uniform (KS p 0.35). The run of 2026-12-06 gave every record
+of the earlier one (2026-12-03, split by hand into parts, Std counted again after the change of
+frame) digit for digit.
 
 :func:`bootstrap_case` checks the same measurements against the same fits by the calibrated
 check (:mod:`roughgp.checking.calibrated`). Measured on the first 125 with 19
@@ -85,7 +87,7 @@ from roughgp.experiments.check_calibration import (CASES, Calibration, Calibrati
 from roughgp.surface_models.fit import fit_surface_model
 from roughgp.surface_models.model import FittedModel
 
-__all__ = ["rank_check", "calibrate", "recheck", "synthetic_measurement", "synthetic_holes",
+__all__ = ["rank_check", "calibrate", "synthetic_measurement", "synthetic_holes",
            "EXPECTED_OUTSIDE",
            "StageComparison", "compare_stages", "bootstrap_case", "check_both_ways"]
 
@@ -183,34 +185,6 @@ def calibrate(n_cases=None, *, shape=None, n_simulations=19, n_draws=None, seed=
                                      ranks[0], ranks[1], seconds))
     return Calibration(tuple(cases), tuple(names), int(n_simulations), int(n_draws), shape,
                        time.perf_counter() - start)
-
-
-def recheck(record: dict, names, *, seed=0) -> dict:
-    """A recorded case of :func:`calibrate` (a :meth:`Calibration.to_records` record) with the
-    ranks of the parameters ``names`` counted again by the check as it is now (e.g. after a
-    change of how a parameter is compared), against the recorded true and fitted models, the
-    same synthetic measurement and the same seeded draws, without fitting again. The other
-    parameters' ranks are kept; ``record["rechecked"]`` lists the parameters counted again."""
-    case = CalibrationCase.from_dict(record)
-    order = list(record["names"])
-    unknown = [n for n in names if n not in order]
-    if unknown:
-        raise ValueError(f"names must be among the record's {order}, got {unknown}")
-    _, _, z = synthetic_measurement(case.index, tuple(record["shape"]), seed)
-    out = {**record, "rechecked": sorted(set(record.get("rechecked", [])) | set(names))}
-    for key, model in (("ranks_true", case.truth), ("ranks_fitted", case.fitted)):
-        again = rank_check(model, z, n_simulations=int(record["n_simulations"]),
-                           n_draws=int(record["n_draws"]), seed=seed + case.index,
-                           names=tuple(names))
-        ranks = {k: list(v) for k, v in record[key].items()}
-        for j, name in enumerate(names):
-            i = order.index(name)
-            for field in ("measured", "above", "below", "ties", "finite"):
-                ranks[field][i] = getattr(again, field)[j]
-        ranks["outside"] = [n for n in order if (n in again.outside if n in names
-                                                 else n in record[key]["outside"])]
-        out[key] = ranks
-    return out
 
 
 def _fitted_case(index, shape, seed, block, n_blocks):
