@@ -87,3 +87,21 @@ def test_a_given_feed_is_kept():
 def test_what_holds_no_mark_is_refused(profile, error, words):
     with pytest.raises(error, match=words):
         feed_marks(profile, 1.0)
+
+
+def test_a_fold_too_coarse_to_sharpen_is_kept_without_a_degenerate_fit():
+    """A FRT map with no feed marks: the search tried marks of 8 to 15 samples, and sharpening
+    fitted a quadratic through the 2 samples of a flank (numpy's RankWarning reached the user
+    as "warning: Polyfit may be poorly conditioned")."""
+    import warnings
+
+    from roughgp.metrology.feed_marks import _sharpened
+    for n in range(4, 16):
+        mark = np.cos(np.linspace(0, 2 * np.pi, n, endpoint=False))
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            np.testing.assert_array_equal(_sharpened(mark), mark)
+    cusp = np.abs(np.linspace(-1, 1, 64))   # fine enough: the ends continued from the flanks
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert _sharpened(cusp).shape == cusp.shape
