@@ -138,13 +138,13 @@ def fill_gaps_locally(z, kernel, *, noise_variance, spacing=1.0, mask=None, tile
     mean = np.where(missing, np.nan, z)
     sd = np.zeros(shape)
     iy, ix = np.indices(shape)
-    tiles, largest = 0, 0
+    largest = 0
     cores = [(r0, c0) for r0 in range(0, ny, tile) for c0 in range(0, nx, tile)
              if targets_map[r0:r0 + tile, c0:c0 + tile].any()]
     if progress is not None:
         progress(0, len(cores))
     with one_blas_thread():
-        for r0, c0 in cores:
+        for done, (r0, c0) in enumerate(cores, start=1):
             core = np.s_[r0:r0 + tile, c0:c0 + tile]
             targets = targets_map[core]
             m = margin
@@ -170,9 +170,8 @@ def fill_gaps_locally(z, kernel, *, noise_variance, spacing=1.0, mask=None, tile
                                                  check_finite=False)
             mean[ty, tx] = offset + k_ot.T @ alpha
             sd[ty, tx] = np.sqrt(np.clip(variance - np.sum(half * half, axis=0), 0.0, None))
-            tiles += 1
             largest = max(largest, int(oy.size))
             if progress is not None:
-                progress(tiles, len(cores))
-    return LocalFill(mean=mean, sd=sd, missing=missing, tiles=tiles, largest_window=largest,
+                progress(done, len(cores))
+    return LocalFill(mean=mean, sd=sd, missing=missing, tiles=len(cores), largest_window=largest,
                      seconds=time.perf_counter() - start)

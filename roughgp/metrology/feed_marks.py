@@ -243,11 +243,13 @@ def _sharpened(mark):
     """The mark with its ends continued from its flanks where they are convex (a cusp the fold
     rounded: module docstring): the samples within a thirty-second of the feed of either end
     replaced by the quadratic fitted to the flank from a thirty-second to an eighth of the feed
-    from that end. A fold of fewer than 16 samples is kept as it is: its flanks hold fewer than
-    the 3 samples a quadratic needs (on a FRT map with no feed marks, the marks that a search
-    tried had 8 to 15 samples, and numpy warned the user of a fit through 2 points)."""
+    from that end. A fold of 16 samples or fewer (``round(n / 32)`` is 0) is kept as it is: its
+    flanks hold fewer than the 3 samples a quadratic needs (on a FRT map with no feed marks, the
+    marks that a search tried had 8 to 15 samples, and numpy warned the user of a fit through 2
+    points)."""
     n = mark.size
-    near, far = round(n / 32), max(round(n / 32) + 3, round(n / 8))
+    near = round(n / 32)
+    far = max(near + 3, round(n / 8))
     if near < 1 or far >= n // 2:
         return mark
     out = mark.copy()

@@ -96,7 +96,7 @@ def test_a_fold_too_coarse_to_sharpen_is_kept_without_a_degenerate_fit():
     import warnings
 
     from roughgp.metrology.feed_marks import _sharpened
-    for n in range(4, 16):
+    for n in range(4, 17):   # 16 too: round(16 / 32) is 0, and its flank held 2 samples
         mark = np.cos(np.linspace(0, 2 * np.pi, n, endpoint=False))
         with warnings.catch_warnings():
             warnings.simplefilter("error")
