@@ -198,9 +198,12 @@ def describe_flagged(flagged, measured, most=5) -> str:
 
 def loo_scores(residual, kernel, *, noise_variance, spacing=1.0, excluded=None, tile=8,
                margin=6) -> np.ndarray:
-    """The standardised leave-one-out residual of every measured point of ``residual`` (module
+    r"""The standardised leave-one-out residual of every measured point of ``residual`` (module
     docstring), from the measured points of its window that are not ``excluded``; an excluded
-    point is scored against its prediction from the others. NaN where unmeasured."""
+    point is scored against its prediction from the others. A point alone in its window (an
+    isolated speck in a region the instrument could not measure) is scored against the prior,
+    :math:`(y_i - \bar y)/\sqrt{k(0) + \sigma^2}`: the same identity with nothing else
+    observed, so with the same false-alarm rate. NaN where unmeasured."""
     z = surface_array(residual, "residual")
     tile = check_integer("tile", tile, 1)
     margin = check_integer("margin", margin, 1)
@@ -227,7 +230,9 @@ def loo_scores(residual, kernel, *, noise_variance, spacing=1.0, excluded=None, 
                             max(c0 - margin, 0):c0 + tile + margin]
                 obs = observed[win]
                 oy, ox = iy[win][obs], ix[win][obs]
-                if oy.size < 2:
+                if oy.size == 0:  # nothing observed near: scored against the prior
+                    ty, tx = np.nonzero(measured[core])
+                    scores[ty + r0, tx + c0] = centred[ty + r0, tx + c0] / math.sqrt(variance)
                     continue
                 k_oo = table[oy[:, None] - oy[None, :] + ny - 1,
                              ox[:, None] - ox[None, :] + nx - 1]

@@ -79,6 +79,31 @@ def test_excluded_points_are_scored_from_the_others():
     assert np.all(np.abs(scores[19:22, 19:22][~excluded[19:22, 19:22]]) < THRESHOLD)
 
 
+def test_an_isolated_speck_is_scored_against_the_prior():
+    """A measured point alone in its window (a speck in a region the instrument could not
+    measure: ``data/frt-2.frt`` has 153 at one floor height, 70 um below its surface) is scored
+    against the prior, not left unjudged; a speck at its true height is not flagged."""
+    truth = _clean((64, 64), seed=8)
+    z = truth.copy()
+    z[:30] = np.nan
+    z[5, 5] = truth[5, 5] + 40.0
+    z[5, 40] = truth[5, 40]
+    kernel = GROUND.kernel()
+    scores = loo_scores(z, kernel, noise_variance=NOISE)
+    prior = lag_table(acvf_of(kernel), z.shape, (1.0, 1.0))[63, 63] + NOISE
+    offset = np.nanmean(z)
+    for at in ((5, 5), (5, 40)):
+        assert scores[at] == pytest.approx((z[at] - offset) / math.sqrt(prior), rel=1e-12)
+    excluded = np.zeros(z.shape, bool)
+    excluded[5, 5] = True  # a speck left out of the fit: still scored, from nothing
+    kept = np.isfinite(z) & ~excluded
+    assert loo_scores(z, kernel, noise_variance=NOISE, excluded=excluded)[5, 5] == (
+        pytest.approx((z[5, 5] - z[kept].mean()) / math.sqrt(prior), rel=1e-12))
+    found = detect_spurious(z, seed=0, form=None)  # no plane extrapolated 25 rows out
+    assert found.flagged[5, 5] and not found.flagged[5, 40]
+    assert f"of {np.isfinite(z).sum()} measured" in found.summary()  # the specks count
+
+
 def test_detector_finds_injected_points_and_robust_rounds_matter():
     case = inject(_clean((64, 64), seed=5), 0.01, seed=6)
     robust = detect_spurious(case.z, seed=0)
