@@ -248,7 +248,7 @@ def _whole(args, model, z, spacing, models, start, json_out, plot, spacing_note,
     calibrated = None
     if args.calibrate is None:
         result = check(model, z, spacing, n_simulations=args.simulations, seed=args.seed,
-                       models=models, progress=Pace("simulations, each measured",
+                       models=models, progress=Pace("simulations (each drawn and measured)",
                                                     "a smaller --simulations or --part"))
     else:
         calibrated = _calibrated(model, z, spacing, args, start)

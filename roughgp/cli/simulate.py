@@ -44,8 +44,9 @@ and the spacing are in um; the same --seed gives the same surface. A 1-row --sha
 writes a profile.
 
 With --from MODEL.json (a model file of 'roughgp fit') and no KIND, the surface is drawn
-from that fitted model instead, at the model's spacing unless --spacing is given (a profile
-model: --shape 1 N). The draw is put through the rest of the measurement's operator chain
+from that fitted model instead, at the model's spacing unless --spacing is given, and of
+the size of the map (or profile) it was fitted on unless --shape is given (a profile model:
+--shape 1 N). The draw is put through the rest of the measurement's operator chain
 (the model describes the heights after the F-operator; the file's S- and L-filters follow,
 as 'roughgp check' does), so the file holds heights like the measurement's texture heights;
 --model-stage writes the draw before them (for 'roughgp texture' to filter).
@@ -103,7 +104,8 @@ def add_parser(sub, formatter) -> None:
     p.add_argument("--from", dest="model", metavar="MODEL.json",
                    help="draw from a model file of 'roughgp fit' (give no KIND)")
     p.add_argument("--shape", nargs=2, type=integer("--shape"), metavar=("NY", "NX"),
-                   help="with --from: points along y and x (a profile model: 1 N)")
+                   help="with --from: points along y and x (a profile model: 1 N; default: "
+                        "the size of the map the model was fitted on)")
     p.add_argument("--seed", type=integer("--seed"), metavar="S",
                    help=f"with --from: random seed, {bounds_text('--seed')} (default: a fresh "
                         f"one, printed)")
@@ -319,9 +321,15 @@ def _run_model(args) -> int:
     out, = check_outputs(("--out", args.out, "heights"), inputs=(("--from", args.model),),
                          force=args.force)
     model = load_model(args.model, "--from")
-    if args.shape is None and model.kind == "profile":
-        raise UsageError(f"the size is missing: --from {args.model} is a profile model: give "
-                         f"--shape 1 N (a profile of N points)")
+    if args.shape is None:
+        args.shape = _fitted_size(model)
+        if args.shape is None and model.kind == "profile":
+            raise UsageError(f"the size is missing: --from {args.model} is a profile model "
+                             f"that does not record its profile's length: give --shape 1 N "
+                             f"(a profile of N points)")
+        if args.shape is not None:
+            err(f"--shape not given: {' x '.join(map(str, args.shape))} points, the size of "
+                f"the {model.kind} the model was fitted on")
     shape = _check_shape(args)
     if model.kind == "profile":
         if shape[0] != 1:
@@ -353,6 +361,18 @@ def _run_model(args) -> int:
     write_heights(out, z, spacing[-1] if len(set(spacing)) == 1 else tuple(spacing), comment)
     err(f"wrote {out} ({model.kind} of shape {z.shape}, heights in um)")
     return 0
+
+
+def _fitted_size(model) -> list | None:
+    """``[NY, NX]`` (a profile: ``[1, N]``) of the data ``model`` was fitted on, as its file
+    records it (``data.shape``); None where it records no single size within the command's
+    bounds (a model of several maps, an older or edited file)."""
+    shape = model.data.get("shape") if isinstance(model.data, dict) else None
+    if not (isinstance(shape, list) and len(shape) == (1 if model.kind == "profile" else 2)
+            and all(type(n) is int and n >= 2 for n in shape)
+            and math.prod(shape) <= MAX_SIMULATE_POINTS):
+        return None
+    return [1, *shape] if model.kind == "profile" else list(shape)
 
 
 def _check_option_scales(args) -> None:

@@ -26,7 +26,7 @@ def model_and_map(tmp_path):
 
 
 @pytest.mark.parametrize("options, words", [
-    (("--simulations", 3), "warning: 3 simulations, each measured take about"),
+    (("--simulations", 3), "warning: 3 simulations (each drawn and measured) take about"),
     (("--simulations", 2, "--calibrate", 2),
      "warning: 2 bootstrap copies, each refitted and checked take about"),
 ])

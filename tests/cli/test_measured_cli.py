@@ -72,9 +72,19 @@ def test_fill_with_the_model_file(capsys, tmp_path, land_model):
     assert "moving-window kriging" in err
 
 
+def test_simulate_from_a_model_without_shape_draws_the_size_it_was_fitted_on(capsys, tmp_path,
+                                                                              land_model):
+    out = tmp_path / "same-size.npy"
+    code, _, err = _run(capsys, "simulate", "--from", land_model, "--seed", 3, "--out", out)
+    assert code == 0, err
+    fitted = json.loads(land_model.read_text())["data"]["shape"]
+    assert list(np.load(out).shape) == fitted == list(x3p.read_x3p(LAND).z.shape)
+    assert f"--shape not given: {fitted[0]} x {fitted[1]} points, the size of the surface" in err
+
+
 @pytest.mark.parametrize("argv, message", [
     (("simulate", "--shape", 4, 4, "--out", "x.npy"), "give a KIND"),
-    (("simulate", "--from", "MODEL", "--out", "x.npy"), "--shape"),
+    (("simulate", "--from", "SIZELESS", "--out", "x.npy"), "the size is missing: give --shape"),
     (("simulate", "--from", "MODEL", "--shape", 1, 40, "--out", "x.npy"), "surface model"),
     (("simulate", "--from", "nothere.json", "--shape", 4, 4, "--out", "x.npy"),
      "no such model file"),
@@ -89,7 +99,11 @@ def test_fill_with_the_model_file(capsys, tmp_path, land_model):
 def test_model_commands_refuse_bad_input(capsys, tmp_path, land_model, argv, message):
     bogus = tmp_path / "bogus.json"
     bogus.write_text("{}")
-    swap = {"MODEL": land_model, "LAND": LAND, "NOTMODEL": bogus}
+    sizeless = json.loads(land_model.read_text())
+    del sizeless["data"]["shape"]  # a file that does not say the size it was fitted on
+    (tmp_path / "sizeless.json").write_text(json.dumps(sizeless))
+    swap = {"MODEL": land_model, "LAND": LAND, "NOTMODEL": bogus,
+            "SIZELESS": tmp_path / "sizeless.json"}
     argv = [swap.get(a, a) if isinstance(a, str) else a for a in argv]
     argv = [str(tmp_path / a) if isinstance(a, str) and a.endswith((".npy", ".gif"))
             and not Path(a).is_absolute() else a for a in argv]
