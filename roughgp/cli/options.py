@@ -18,7 +18,8 @@ from roughgp.common.checks import check_scale
 __all__ = ["add_part_option", "crop_to_part", "cutoff", "add_form_options",
            "add_operator_options", "operator_settings", "check_cutoffs", "load_model",
            "check_scales", "seed_or_fresh", "read_input", "Given", "add_l_kind_options",
-           "add_spurious_options", "flagged_output", "remove_spurious", "write_flagged"]
+           "add_spurious_options", "fitted_size", "flagged_output", "remove_spurious",
+           "write_flagged"]
 
 
 def seed_or_fresh(seed):
@@ -168,6 +169,18 @@ def load_model(path, option="MODEL"):
         raise UsageError(f"{option}: cannot read the model file {path}: {why}") from None
     except ModelFileError as exc:
         raise UsageError(f"{option}: {exc}") from None
+
+
+def fitted_size(model, max_points: int) -> list | None:
+    """``[NY, NX]`` (a profile: ``[1, N]``) of the data ``model`` was fitted on, as its file
+    records it (``data.shape``); None where it records no single size of at most ``max_points``
+    points (a model of several maps, an older or edited file)."""
+    shape = model.data.get("shape") if isinstance(model.data, dict) else None
+    if not (isinstance(shape, list) and len(shape) == (1 if model.kind == "profile" else 2)
+            and all(type(n) is int and n >= 2 for n in shape)
+            and math.prod(shape) <= max_points):
+        return None
+    return [1, *shape] if model.kind == "profile" else list(shape)
 
 
 def add_l_kind_options(parser) -> None:

@@ -314,7 +314,7 @@ def _run_model(args) -> int:
     """``roughgp simulate --from MODEL.json``: draw from a fitted model
     (:func:`roughgp.simulate`)."""
     from roughgp.api import simulate
-    from roughgp.cli.options import load_model
+    from roughgp.cli.options import fitted_size, load_model
     if args.out is None:
         raise UsageError("--out FILE is required (the simulated surface: "
                          + ", ".join(WRITE_FORMATS) + ")")
@@ -322,7 +322,7 @@ def _run_model(args) -> int:
                          force=args.force)
     model = load_model(args.model, "--from")
     if args.shape is None:
-        args.shape = _fitted_size(model)
+        args.shape = fitted_size(model, MAX_SIMULATE_POINTS)
         if args.shape is None and model.kind == "profile":
             raise UsageError(f"the size is missing: --from {args.model} is a profile model "
                              f"that does not record its profile's length: give --shape 1 N "
@@ -361,18 +361,6 @@ def _run_model(args) -> int:
     write_heights(out, z, spacing[-1] if len(set(spacing)) == 1 else tuple(spacing), comment)
     err(f"wrote {out} ({model.kind} of shape {z.shape}, heights in um)")
     return 0
-
-
-def _fitted_size(model) -> list | None:
-    """``[NY, NX]`` (a profile: ``[1, N]``) of the data ``model`` was fitted on, as its file
-    records it (``data.shape``); None where it records no single size within the command's
-    bounds (a model of several maps, an older or edited file)."""
-    shape = model.data.get("shape") if isinstance(model.data, dict) else None
-    if not (isinstance(shape, list) and len(shape) == (1 if model.kind == "profile" else 2)
-            and all(type(n) is int and n >= 2 for n in shape)
-            and math.prod(shape) <= MAX_SIMULATE_POINTS):
-        return None
-    return [1, *shape] if model.kind == "profile" else list(shape)
 
 
 def _check_option_scales(args) -> None:
