@@ -51,11 +51,12 @@ _SCALES = {"eq18": ("variance_um2", "lambda_a_um", "lambda_b_um", "noise_varianc
 
 
 def fitted_shape(model: FittedModel, default) -> tuple:
-    """The grid the model was fitted on (``model.data["shape"]``), else ``default``."""
-    shape = model.data.get("shape") if isinstance(model.data, dict) else None
+    """The grid the model was fitted on (:attr:`FittedModel.recorded_shape`), else
+    ``default``."""
+    shape = model.recorded_shape
     if shape is None or len(shape) != 2:
         return None if default is None else tuple(int(n) for n in default)
-    return tuple(int(n) for n in shape)
+    return shape
 
 
 def predictive_refusal(model: FittedModel) -> str | None:
@@ -127,7 +128,7 @@ def bootstrap_models(model: FittedModel, n_models, *, shape=None, spacing=None, 
     if why:
         raise ValueError(why)
     if shape is None:
-        shape = fitted_shape(model, None) if model.data.get("shape") else None
+        shape = fitted_shape(model, None)
         if shape is None:
             raise ValueError("shape: the model file records no fitted shape (data.shape); "
                              "give the bootstrap measurements' shape")

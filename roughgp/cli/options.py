@@ -175,10 +175,8 @@ def fitted_size(model, max_points: int) -> list | None:
     """``[NY, NX]`` (a profile: ``[1, N]``) of the data ``model`` was fitted on, as its file
     records it (``data.shape``); None where it records no single size of at most ``max_points``
     points (a model of several maps, an older or edited file)."""
-    shape = model.data.get("shape") if isinstance(model.data, dict) else None
-    if not (isinstance(shape, list) and len(shape) == (1 if model.kind == "profile" else 2)
-            and all(type(n) is int and n >= 2 for n in shape)
-            and math.prod(shape) <= max_points):
+    shape = model.recorded_shape
+    if shape is None or math.prod(shape) > max_points:
         return None
     return [1, *shape] if model.kind == "profile" else list(shape)
 

@@ -42,10 +42,8 @@ def fitted_shape(model):
     """The shape of the field the measured PSD was fitted on (the model file's ``data.shape``;
     else the field whose lowest frequency is the model's ``frequency_min_per_um``): the grid
     its ACVF is tabulated on."""
-    shape = model.data.get("shape") if isinstance(model.data, dict) else None
-    if isinstance(shape, list) and len(shape) == 2 and all(isinstance(n, int) and n > 1
-                                                           for n in shape):
-        return tuple(shape)
+    if model.recorded_shape is not None:
+        return model.recorded_shape
     table, f_min, f_max = _table(model)
     return tuple(max(2, round(1.0 / (f_min * d))) for d in model.spacing)
 

@@ -139,6 +139,18 @@ class FittedModel:
     def noise_variance(self) -> float:
         return float(self.hyperparameters["noise_variance_um2"])
 
+    @property
+    def recorded_shape(self) -> tuple | None:
+        """The one grid the model was fitted on (``data.shape``): ``(NY, NX)``, a profile's
+        ``(N,)``; None where no single grid is recorded (several maps, an edited file)."""
+        shape = self.data.get("shape") if isinstance(self.data, dict) else None
+        rank = 1 if self.kind == "profile" else 2
+        if isinstance(shape, (list, tuple)) and len(shape) == rank and all(
+                isinstance(n, (int, np.integer)) and not isinstance(n, bool) and n >= 2
+                for n in shape):
+            return tuple(int(n) for n in shape)
+        return None
+
     def kernel(self):
         """The fitted latent kernel (:mod:`roughgp.gp.kernels`), lengths in um; for the
         measured-psd model a function of lags ``(..., 2)`` in (x, y) order: the ACVF tabulated

@@ -4,8 +4,10 @@ wrong type, out of range, missing, unknown or nested too deep, with a message na
 from __future__ import annotations
 
 import copy
+import dataclasses
 import json
 
+import numpy as np
 import pytest
 
 from roughgp.surface_models.model import FittedModel, ModelFileError
@@ -188,3 +190,21 @@ def test_check_calibrate_of_a_model_with_a_list_seed_exits_2_naming_the_field(tm
     code = main(["check", str(file), str(data), "--calibrate", "1"])
     err = capsys.readouterr().err
     assert code == 2 and "fit.seed must be an integer" in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("model, shape, recorded", [
+    (EQ18, [64, 128], (64, 128)),
+    (EQ18, [np.int64(64), 32], (64, 32)),  # a fit's numpy sizes, before the file
+    (EQ18, [[64, 64], [32, 32]], None),  # several maps
+    (EQ18, [64], None),
+    (EQ18, [True, 64], None),
+    (EQ18, [1, 64], None),
+    (EQ18, "64 x 64", None),
+    (EQ21, [400], (400,)),
+    (EQ21, [1, 400], None),
+])
+def test_the_recorded_shape_is_the_one_grid_the_file_records_or_none(model, shape, recorded):
+    """``FittedModel.recorded_shape``, read by ``simulate --from`` (the size to draw), the
+    predictive check (the bootstrap copies' grid) and the measured PSD (its ACVF's grid)."""
+    assert dataclasses.replace(model, data={"shape": shape}).recorded_shape == recorded
+    assert dataclasses.replace(model, data={}).recorded_shape is None
