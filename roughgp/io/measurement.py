@@ -292,6 +292,11 @@ def _text(path: Path, kind: str, spacing, unit) -> Measurement:
                                reader="roughgp xyz (by content)", notes=notes)
         return Measurement(z, (dy, dx), "from the x y positions", unit_source,
                            reader="roughgp xyz (by content)", notes=notes)
+    if kind == "surface" and columns <= 2 and header.kind is None and header.width is None \
+            and header.value_unit is None:  # no surface is 1 or 2 points wide
+        kind = "profile"
+        notes += (("2 columns (x and z)" if columns == 2 else "1 column (heights)")
+                  + f": read as a profile, not as a surface {columns} wide",)
     if kind == "profile" and columns > 2:
         raise MalformedFileError(f"{path}: has {columns} columns; a profile is 1 column "
                                  "(heights) or 2 (x, z): read it as a surface (kind "
@@ -373,7 +378,8 @@ def read_measurement(path, *, kind: str = "auto", spacing: float | None = None,
 
     Args:
         path: the file.
-        kind: ``"auto"``, or ``"profile"`` / ``"surface"`` for a text table.
+        kind: ``"auto"``, or ``"profile"`` / ``"surface"`` for a text table (a table of 1 or
+            2 columns whose header states no grid is a profile whatever ``kind`` says).
         spacing: µm, overriding the file's (x3p, instruments, xyz, a profile's x column, the
             comment of a ``roughgp simulate`` CSV, a Gwyddion matrix header); without either
             it is 1 µm (and says so).

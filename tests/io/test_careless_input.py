@@ -244,3 +244,32 @@ def test_npy_pickle_is_refused(tmp_path, capsys):
     assert main(["texture", str(path)]) == 2
     err = capsys.readouterr().err
     assert "pickle" in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("header, columns", [("x in µm,z in µm\n", 2), ("", 2), ("", 1),
+                                             ("index,x in µm,y in µm\n", 3)])
+def test_a_table_of_one_or_two_columns_is_a_profile_even_when_a_surface_is_asked(
+        tmp_path, header, columns):
+    """``fit ground`` and ``fill`` ask for a surface: a profile table read as a surface 200 x 2
+    points would be refused as too narrow for the fit's blocks, a reason that misleads (csv-2.csv
+    of SurfaceTopography's examples: an index column and x, z)."""
+    x = np.arange(200) * 0.5
+    z = np.sin(x / 3.0)
+    table = np.column_stack([np.arange(200), x, z][3 - columns:])
+    path = tmp_path / "profile.csv"
+    path.write_text(header + "\n".join(",".join(f"{v:g}" for v in row) for row in table) + "\n")
+    m = read_measurement(path, kind="surface")
+    assert m.kind == "profile" and m.z.shape == (200,)
+    assert any("read as a profile, not as a surface" in n for n in m.notes)
+    np.testing.assert_allclose(m.z, np.round(z, 5), atol=1e-5)
+
+
+def test_a_surface_command_says_a_profile_table_holds_a_profile(tmp_path, capsys):
+    path = tmp_path / "profile.csv"
+    path.write_text("x in µm,z in µm\n" + "".join(f"{0.5 * i:g},{np.sin(i / 6):.5f}\n"
+                                                  for i in range(200)))
+    for command in (["fit", "ground", str(path), "--out", str(tmp_path / "m.json")],
+                    ["fill", str(path), "--out", str(tmp_path / "f.csv")]):
+        assert main(command) == 2
+        err = capsys.readouterr().err
+        assert "holds a profile" in err and "200 x 2" not in err, err
