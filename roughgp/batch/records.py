@@ -17,12 +17,12 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import json
-import math
 import os
 import re
 from pathlib import Path
 
 from roughgp.common.atomic import atomic_output
+from roughgp.common.json_values import plain
 from roughgp.common.version import VERSION
 
 __all__ = ["STEPS", "Plan", "file_seed", "record_name", "write_record", "read_record",
@@ -91,23 +91,10 @@ def record_name(path) -> str:
     return f"{stem}-{where}"
 
 
-def _json_value(value):
-    """JSON-ready: numpy scalars and arrays to Python, NaN / inf to None."""
-    if isinstance(value, dict):
-        return {str(k): _json_value(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_json_value(v) for v in value]
-    if hasattr(value, "tolist") and not isinstance(value, (str, bytes)):
-        return _json_value(value.tolist())
-    if isinstance(value, float):
-        return value if math.isfinite(value) else None
-    return value
-
-
 def write_record(path, record: dict) -> None:
     """Write ``record`` as JSON to ``path``, whole or not at all (a temporary file renamed:
     an interrupted batch leaves no partial record)."""
-    text = json.dumps(_json_value(record), indent=1, sort_keys=False) + "\n"
+    text = json.dumps(plain(record), indent=1, sort_keys=False) + "\n"
     with atomic_output(path) as partial:
         Path(partial).write_text(text, encoding="utf-8")
 

@@ -27,6 +27,7 @@ import math
 from pathlib import Path
 
 from roughgp.common.atomic import atomic_output
+from roughgp.common.json_values import plain
 
 __all__ = ["rows", "columns", "write_table", "read_csv_table", "parquet_available"]
 
@@ -77,8 +78,11 @@ def _row(record: dict) -> dict:
 
 
 def rows(records) -> list[dict]:
-    """One row (a flat dict) per record, in the order given."""
-    return [_row(r) for r in records]
+    """One row (a flat dict) per record, in the order given: a record as its JSON file holds
+    it (:func:`~roughgp.common.json_values.plain`: lists, not numpy arrays; NaN as null), so
+    that the rows of this run's records and of records read back from an earlier run are
+    the same."""
+    return [_row(plain(r)) for r in records]
 
 
 def columns(table: list[dict]) -> list[str]:

@@ -12,9 +12,8 @@ import sys
 import textwrap
 from pathlib import Path
 
-import numpy as np
-
 from roughgp.common.atomic import atomic_output, longest_name
+from roughgp.common.json_values import plain
 from roughgp.io.writers import check_write_format
 
 __all__ = ["UsageError", "WIDTH", "err", "show_warning", "wrap", "print_wrapped", "table",
@@ -140,24 +139,11 @@ def table(rows: list[tuple], widths: tuple[int, ...], header: tuple) -> str:
     return "\n".join(lines)
 
 
-def _json_value(value):
-    """JSON-ready: numpy scalars to Python, NaN / inf to None."""
-    if isinstance(value, dict):
-        return {k: _json_value(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_json_value(v) for v in value]
-    if isinstance(value, (np.floating, float)):
-        return float(value) if math.isfinite(value) else None
-    if isinstance(value, np.integer):
-        return int(value)
-    return value
-
-
 def write_json(path_text: str, record: dict) -> None:
     """Write ``record`` as JSON to the file named, whole or not at all (numpy scalars as
     numbers, NaN as null); says which file it wrote."""
     path = Path(path_text)
-    text = json.dumps(_json_value(record), indent=1) + "\n"
+    text = json.dumps(plain(record), indent=1) + "\n"
     with atomic_output(path) as partial:
         partial.write_text(text, encoding="utf-8")
     err(f"wrote {path}")

@@ -110,6 +110,32 @@ def _nms_spacing(path) -> tuple[float, float]:
     return dy_nm * 1e-3, dx_nm * 1e-3
 
 
+#: the first line of an HFM profile (x, height and a validity flag per row, ``;``-separated)
+HFM_HEADER = "X;Y;valid"
+
+
+def _hfm_validity(path, n_points):
+    """The rows of an HFM file that hold a measured height (its ``valid`` column: 1 measured,
+    0 not), which SurfaceTopography's reader leaves out (it reads the first two columns
+    only, so an unmeasured row's placeholder height was read as measured); None for a file
+    that is no HFM file."""
+    with open(path, "rb") as stream:
+        if stream.readline().strip() != HFM_HEADER.encode():
+            return None
+    try:
+        flags = np.loadtxt(path, delimiter=";", skiprows=2, usecols=2, ndmin=1)
+    except (ValueError, IndexError) as error:
+        raise MalformedFileError(f"{path}: its 'valid' column cannot be read ({error})") \
+            from None
+    if flags.size != n_points or not np.isin(flags, (0.0, 1.0)).all():
+        raise MalformedFileError(f"{path}: its 'valid' column must hold 1 (measured) or 0 "
+                                 f"(not) for each of the {n_points} points read, got "
+                                 f"{flags.size} values"
+                                 + ("" if np.isin(flags, (0.0, 1.0)).all() else
+                                    " with others than 0 and 1"))
+    return flags == 1.0
+
+
 def _open_by_detection(path):
     """SurfaceTopography's reader of ``path``, the format detected by content (the whole
     package imported); a :class:`MalformedFileError` saying what is wrong when none opens it."""
@@ -186,6 +212,10 @@ def read_instrument(path, *, channel=0, unit=None) -> HeightMap:
     factor, unit_source = _factor(path, file_unit, unit)
     z = np.ma.filled(np.ma.asarray(heights, dtype=np.float64), np.nan) * factor
     z[~np.isfinite(z)] = np.nan
+    if reader.format() == "xyz" and z.ndim == 1:
+        valid = _hfm_validity(path, z.size)
+        if valid is not None:
+            z[~valid] = np.nan
     if uniform:
         pixel = np.atleast_1d(pixel) * factor
     else:  # a line scan with x positions from the file: regular (to 1e-6) or refused

@@ -164,5 +164,6 @@ def filtered_parameters(z, spacing=1.0, *, form="plane", s="auto", l="auto", deg
         params.update(dict.fromkeys(grid_only, float("nan")))
         notes.append(f"{missing} of {heights.size} points unmeasured ({missing / heights.size:.1%}):"
                      f" the height and material-ratio parameters are of the measured points; "
-                     f"{', '.join(grid_only)} need a complete grid (fill it: roughgp fill)")
+                     f"{', '.join(grid_only)} need{'s' if len(grid_only) == 1 else ''} a "
+                     f"complete grid (fill it: roughgp fill)")
     return TextureReport(params, standard, operators, notes, chain, heights)

@@ -69,6 +69,7 @@ import numpy as np
 from roughgp.common.atomic import atomic_output
 from roughgp.common.checks import as_generator
 from roughgp.common.grid import normalize
+from roughgp.common.json_values import plain
 from roughgp.gp.noise import GaussianNoise
 from roughgp.surface_models.schema import (
     EQUATIONS,
@@ -442,13 +443,13 @@ class FittedModel:
     # ------------------------------------------------------------------ the file
     def to_dict(self) -> dict:
         from roughgp.common.version import VERSION
-        return {"format": MODEL_FORMAT, "version": MODEL_VERSION, "equation": self.equation,
-                "kind": self.kind, "stage": self.stage, "description": self.describe(),
-                "hyperparameters": _plain(self.hyperparameters),
-                "spacing_um": [float(d) for d in self.spacing],
-                "marginal": _plain(self.marginal), "operators": list(self.operators),
-                "cutoffs": _plain(self.cutoffs), "data": _plain(self.data),
-                "fit": _plain(self.fit), "roughgp_version": VERSION}
+        return plain({"format": MODEL_FORMAT, "version": MODEL_VERSION,
+                      "equation": self.equation, "kind": self.kind, "stage": self.stage,
+                      "description": self.describe(), "hyperparameters": self.hyperparameters,
+                      "spacing_um": [float(d) for d in self.spacing], "marginal": self.marginal,
+                      "operators": list(self.operators), "cutoffs": self.cutoffs,
+                      "data": self.data, "fit": self.fit, "roughgp_version": VERSION},
+                     nan_as_null=False)  # a model file writes NaN (allow_nan in save)
 
     @classmethod
     def from_dict(cls, values, source="the model") -> "FittedModel":
@@ -486,15 +487,3 @@ class FittedModel:
             raise ModelFileError(f"{path} is nested too deeply to be a model file") from None
         return cls.from_dict(values, source=str(path))
 
-
-def _plain(value):
-    """JSON-ready: numpy scalars and arrays as Python numbers and lists."""
-    if isinstance(value, dict):
-        return {str(k): _plain(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_plain(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return _plain(value.tolist())
-    if isinstance(value, np.generic):
-        return value.item()
-    return value

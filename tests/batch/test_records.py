@@ -102,3 +102,22 @@ def test_one_file_through_its_steps_and_a_corrupt_one_in_its_row(tmp_path):
     names = columns(rows([record, failed]))
     assert names[:4] == ["path", "sha256", "status", "error"]
     assert names[-1] == "seconds.total" and "fit.variance_um2" in names
+
+
+def test_a_profile_s_table_row_is_the_same_from_this_run_and_from_its_record(tmp_path):
+    """eq 21's hyperparameters are numpy arrays in this run's record: the table once wrote
+    them as numpy's repr (six digits, a line break inside the cell) and its NaN parameters as
+    'nan', where the same record read back from its file gave JSON lists and empty cells."""
+    x = np.arange(600) * 0.5
+    z = np.sin(x / 7.0) + 0.1 * np.random.default_rng(1).normal(size=x.size)
+    path = tmp_path / "profile.npy"
+    np.save(path, z)
+    plan = Plan(steps=("texture", "fit"), seed=2, options={"fit": {"mixtures": 2}})
+    record = run_file(str(path), file_sha256(path), plan, str(tmp_path / "files" / "p"))
+    assert record["status"] == "done", record["error"]
+    write_record(tmp_path / "record.json", record)
+    fresh, reread = rows([record])[0], rows([read_record(tmp_path / "record.json")])[0]
+    assert fresh == reread
+    weights = json.loads(fresh["fit.weights_um2"])
+    np.testing.assert_array_equal(weights, record["fit"]["hyperparameters"]["weights_um2"])
+    assert all(isinstance(v, (str, int, float, bool, type(None))) for v in fresh.values())

@@ -74,3 +74,37 @@ def test_reading_an_opd_imports_one_reader_and_the_package_still_works_after():
     assert first == "False False False False"
     assert second == "True True opd"
     assert third == "True True True"  # the deferred NuMPI is the whole package once asked
+
+
+def _hfm(path, flags, heights_mm=None):
+    """An HFM profile (x and height in mm, a validity flag per row), as its instruments write
+    it (``X;Y;valid``, CRLF)."""
+    n = len(flags)
+    heights_mm = 106.6 + 1e-5 * np.sin(np.arange(n) / 9.0) if heights_mm is None else heights_mm
+    rows = [f"{8.6722 + 0.0005 * i:.6f};{h:.6f};{f}" for i, (h, f) in
+            enumerate(zip(heights_mm, flags))]
+    path.write_bytes(("X;Y;valid\r\n[mm];[mm];[1/0]\r\n" + "\r\n".join(rows) + "\r\n").encode())
+    return path
+
+
+def test_an_hfm_file_s_unmeasured_rows_are_read_as_unmeasured(tmp_path):
+    """SurfaceTopography reads an HFM file's first two columns only: a row flagged 0 (not
+    measured), whose height is a placeholder (0 mm here, 106 mm below the others), was read as
+    a measured height (Rv of about 100 mm on hfm-1.hfm with 100 such rows)."""
+    flags = np.ones(400, dtype=int)
+    flags[100:140] = 0
+    heights = 106.6 + 1e-5 * np.sin(np.arange(400) / 9.0)
+    heights[100:140] = 0.0
+    z = instruments.read_instrument(_hfm(tmp_path / "p.hfm", flags, heights)).z
+    assert z.shape == (400,)
+    assert np.isnan(z[100:140]).all() and np.isfinite(np.delete(z, np.s_[100:140])).all()
+    assert np.nanmax(z) - np.nanmin(z) < 0.1  # um: no placeholder left
+    whole = instruments.read_instrument(_hfm(tmp_path / "q.hfm", np.ones(400, dtype=int))).z
+    assert np.isfinite(whole).all()
+
+
+def test_an_hfm_validity_column_with_other_values_is_refused(tmp_path):
+    flags = np.ones(50, dtype=int)
+    flags[7] = 2
+    with pytest.raises(instruments.MalformedFileError, match="'valid' column must hold 1"):
+        instruments.read_instrument(_hfm(tmp_path / "p.hfm", flags))
