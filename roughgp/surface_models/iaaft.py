@@ -53,7 +53,21 @@ kurtosis is 43; the simulations of a measured-psd model with the IAAFT marginal 
 form-removed heights had 4.3 to 10). So the marginal then stores the quantiles of the
 *filtered* measured heights (``above_l_um``: the cut-off), and the remap is applied to the
 draw's band above the cut-off alone (:func:`iaaft_above`: the draw minus its Gaussian-filtered
-long waves), the long waves added back unchanged.
+long waves), the long waves added back unchanged. The Gaussian filter is no sharp cut: what it
+passes of the sum is the remapped band, less the remapped band's own long waves, plus the
+Gaussian draw's waves near the cut-off; that mix is nearer a Gaussian than the target. The
+measured-psd model with this marginal, fitted on the left half of ``data/matrix-3.txt`` and
+checked there, drew filtered heights of Sa / Sq 0.723 to 0.739 against the measured 0.7185
+and kurtosis 4.7 to 5.6 against 5.69, so Sa, Sk and Sku fell outside in sample. So the
+band is remapped again (:func:`band_rounds`): what the filter passes of the sum is rank-remapped
+to the same values and the difference added, until that correction is at most
+:data:`BAND_TOLERANCE` of the band (rms), shrinks by less than a tenth a round, or after
+:data:`BAND_ROUNDS` rounds. The correction falls round by round (0.024, 0.006 on matrix-3;
+0.14, 0.06, 0.04, 0.02, 0.016, 0.011, 0.009 on ``data/sur-2.sur``), and the in-sample check of
+that model on five maps of ``data/`` (two seeds each) left fewer parameters outside:
+matrix-3 2 and 3 before, 0 and 0 after; sur-2 2 and 3, 0 and 1; sample-land 3 and 3, 2 and 1;
+nms-1 7 and 8, 3 and 4; al3d-1 1 and 2, 0 and 0. It costs a Gaussian filter and a sort a round
+(0.17 s a 256 x 256 simulation before, 0.29 s with 3 rounds).
 
 The population has exactly the target distribution (step 3 is last) and a DFT amplitude
 spectrum close to the Gaussian draw's (step 4 is exact before the last remap; the tests
@@ -73,11 +87,14 @@ import scipy.fft
 import scipy.ndimage
 import scipy.special
 
-__all__ = ["N_QUANTILES", "ITERATIONS", "quantile_table", "quantile_values",
-           "values_at_scores", "johnson_values", "iaaft", "iaaft_above"]
+__all__ = ["N_QUANTILES", "ITERATIONS", "BAND_ROUNDS", "BAND_TOLERANCE", "quantile_table",
+           "quantile_values", "values_at_scores", "johnson_values", "iaaft", "iaaft_above",
+           "band_rounds"]
 
 N_QUANTILES = 1001  #: quantiles stored: probabilities 0, 0.001, ..., 1 (the extremes included)
 ITERATIONS = 10  #: the most rounds of remap and spectrum (fewer when the ranks settle)
+BAND_ROUNDS = 10  #: with an L-filter: the most rounds of the band's remap (:func:`band_rounds`)
+BAND_TOLERANCE = 0.01  #: ... until the correction is at most this share of the band (rms)
 
 
 def _scores(tail_probability, n_quantiles):
@@ -176,13 +193,35 @@ def iaaft(field, values, iterations=ITERATIONS):
 _ALPHA = math.sqrt(math.log(2.0) / math.pi)
 
 
-def iaaft_above(field, remap, l_um, spacing):
+def iaaft_above(field, remap, l_um, spacing, rounds=BAND_ROUNDS):
     """``field`` split by the Gaussian L-filter of cut-off ``l_um`` (ISO 16610-21, the edges
     reflected: the population is a crop, not a torus; a periodic filter there put steps at its
     edges and 8 of 13 parameters of data/sample-land.x3p outside, 3 without) into the long
     waves it takes out and the rest; the rest given the target distribution by ``remap``
-    (:func:`iaaft`), the long waves added back (module docstring)."""
+    (:func:`iaaft`), the long waves added back; then up to ``rounds`` - 1 rank remaps of what
+    the filter passes of the sum (:func:`band_rounds`, module docstring)."""
     sigma = _ALPHA * l_um / math.sqrt(2.0 * math.pi)
     sigmas = [sigma / d for d in np.broadcast_to(spacing, (field.ndim,))]
     low = scipy.ndimage.gaussian_filter(field, sigmas, mode="reflect")
-    return low + remap(field - low)
+    band = remap(field - low)
+    return band_rounds(low + band, np.sort(band, axis=None), sigmas, rounds)[0]
+
+
+def band_rounds(surface, values, sigmas, rounds=BAND_ROUNDS, tolerance=BAND_TOLERANCE):
+    """``(surface, residuals)``: ``surface`` corrected until what the Gaussian filter of
+    ``sigmas`` (points) passes of it has the distribution ``values`` (ascending, one per point):
+    each round adds the rank remap of that band minus the band. ``residuals``: each round's
+    correction, rms, over the band's rms. It stops after ``rounds`` - 1 rounds, when the
+    correction is at most ``tolerance`` or when it shrank by less than a tenth since the round
+    before (module docstring)."""
+    residuals = []
+    for _ in range(int(rounds) - 1):
+        band = surface - scipy.ndimage.gaussian_filter(surface, sigmas, mode="reflect")
+        correction = _remap(band, values)[0] - band
+        residuals.append(math.sqrt(np.mean(correction ** 2)
+                                   / max(np.mean(band ** 2), np.finfo(float).tiny)))
+        surface = surface + correction
+        if residuals[-1] <= tolerance or (len(residuals) > 1
+                                          and residuals[-1] > 0.9 * residuals[-2]):
+            break
+    return surface, residuals
