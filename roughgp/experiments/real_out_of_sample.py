@@ -22,6 +22,7 @@ half itself.
 from __future__ import annotations
 
 import dataclasses
+import datetime
 from pathlib import Path
 
 import numpy as np
@@ -30,7 +31,7 @@ from roughgp.checking.auto_choice import central_window
 from roughgp.common.jsonl import read_records
 from roughgp.experiments.real_maps import REAL_MAPS
 
-__all__ = ["LONG", "SHORT", "PASS", "MODELS", "RECORDED", "Model", "split_window",
+__all__ = ["LONG", "SHORT", "PASS", "MODELS", "RECORDED", "WINDOWS_DATE", "Model", "split_window",
            "write_windows", "row_of", "load_rows", "summary", "per_map", "sq_ratio",
            "outside_by_parameter"]
 
@@ -79,9 +80,17 @@ def split_window(shape) -> tuple:
     return central_window(shape, LONG, SHORT)
 
 
+#: the creation date written into every window: a window's bytes, and with them its seed in
+#: the batch (:func:`roughgp.batch.records.file_seed`), then depend on the map alone (windows
+#: written with the date of the day gave each fresh ``--work`` folder other seeds, and
+#: ``--model auto`` other rungs on some maps)
+WINDOWS_DATE = datetime.datetime(2026, 12, 1, tzinfo=datetime.timezone.utc)
+
+
 def write_windows(folder, maps=REAL_MAPS) -> dict:
-    """Write each map's :func:`split_window` as ``folder/NAME.x3p`` (its spacing kept); return
-    ``{part: [paths]}``, the windows grouped by the half fitted."""
+    """Write each map's :func:`split_window` as ``folder/NAME.x3p`` (its spacing kept, the date
+    :data:`WINDOWS_DATE`); return ``{part: [paths]}``, the windows grouped by the half
+    fitted."""
     from roughgp.io.measurement import read_measurement
     from roughgp.io.x3p import write_x3p
     folder = Path(folder)
@@ -93,7 +102,8 @@ def write_windows(folder, maps=REAL_MAPS) -> dict:
         path = folder / (entry.name.replace(".", "_") + ".x3p")
         if not path.exists():
             write_x3p(path, m.z[r0:r0 + rows, c0:c0 + cols], m.spacing,
-                      comment=f"{entry.name}: rows {r0}:{r0 + rows}, columns {c0}:{c0 + cols}")
+                      comment=f"{entry.name}: rows {r0}:{r0 + rows}, columns {c0}:{c0 + cols}",
+                      date=WINDOWS_DATE)
         groups.setdefault(part, []).append(path)
     return groups
 

@@ -56,3 +56,17 @@ def test_the_summary_counts_refused_maps_as_not_reproduced_and_the_hindsight_bou
     by_parameter = ros.outside_by_parameter(rows)
     assert by_parameter.loc["Sq", "eq18"] == 1 and by_parameter.loc["Sq", "psd-iaaft"] == 0
     assert len(by_parameter) == 13   # the parameters of the check, whatever the rows name
+
+
+def test_the_windows_bytes_and_so_their_batch_seeds_depend_on_the_map_alone(tmp_path,
+                                                                           monkeypatch):
+    """Windows written with the day's date gave every fresh --work folder other bytes, other
+    batch seeds, and --model auto other rungs on some maps."""
+    from roughgp.common.digests import file_sha256
+    from roughgp.experiments.real_maps import real_file
+    digests = []
+    for day, folder in (("0", "a"), ("86400", "b")):  # written on two days
+        monkeypatch.setenv("SOURCE_DATE_EPOCH", day)
+        groups = ros.write_windows(tmp_path / folder, (real_file("opd-1.opd"),))
+        digests += [file_sha256(path) for paths in groups.values() for path in paths]
+    assert len(digests) == 2 and digests[0] == digests[1]
