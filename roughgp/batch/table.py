@@ -23,7 +23,6 @@ from __future__ import annotations
 import csv
 import io
 import json
-import math
 from pathlib import Path
 
 from roughgp.common.atomic import atomic_output
@@ -108,8 +107,8 @@ def parquet_available() -> bool:
 
 
 def _cell(value):
-    if value is None or (isinstance(value, float) and not math.isfinite(value)):
-        return "" if value is None else repr(value)
+    if value is None:  # NaN too: :func:`rows` made it null
+        return ""
     if isinstance(value, float):
         return repr(value)  # every digit: the table reads back number for number
     return str(value)
