@@ -127,12 +127,12 @@ def _hfm_validity(path, n_points):
     except (ValueError, IndexError) as error:
         raise MalformedFileError(f"{path}: its 'valid' column cannot be read ({error})") \
             from None
-    if flags.size != n_points or not np.isin(flags, (0.0, 1.0)).all():
+    binary = bool(np.isin(flags, (0.0, 1.0)).all())
+    if flags.size != n_points or not binary:
         raise MalformedFileError(f"{path}: its 'valid' column must hold 1 (measured) or 0 "
                                  f"(not) for each of the {n_points} points read, got "
                                  f"{flags.size} values"
-                                 + ("" if np.isin(flags, (0.0, 1.0)).all() else
-                                    " with others than 0 and 1"))
+                                 + ("" if binary else " with others than 0 and 1"))
     return flags == 1.0
 
 
