@@ -42,8 +42,9 @@ def fitted_shape(model):
     """The shape of the field the measured PSD was fitted on (the model file's ``data.shape``;
     else the field whose lowest frequency is the model's ``frequency_min_per_um``): the grid
     its ACVF is tabulated on."""
-    if model.recorded_shape is not None:
-        return model.recorded_shape
+    shape = model.recorded_shape
+    if shape is not None:
+        return shape
     table, f_min, f_max = _table(model)
     return tuple(max(2, round(1.0 / (f_min * d))) for d in model.spacing)
 
