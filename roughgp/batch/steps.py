@@ -20,6 +20,11 @@ with ``--seed`` set to the file's seed (:func:`roughgp.batch.records.file_seed`)
 * ``simulate``: :func:`roughgp.simulate` of the model at the file's shape, put through the rest
   of its operator chain (``roughgp simulate --from``).
 
+With ``--spurious`` (the read's option ``spurious``) the file's spurious points
+(:func:`~roughgp.filling.spurious.detect_spurious`) are found once, on the whole map, and are
+unmeasured for every step, as the single commands' ``--spurious`` finds them on the whole file
+(``--part`` or not).
+
 Every step runs inside :func:`roughgp.common.threads.one_blas_thread`, as the command does. A
 step that fails ends the file: its record has the error (the exception's type and message) and
 what the steps before it gave; the batch goes on.
@@ -81,6 +86,8 @@ def run_file(path: str, sha256: str, plan: Plan, folder: str) -> dict:
         with one_blas_thread(), warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             heights = _read(path, plan, record)
+            if plan.of("read").get("spurious"):
+                heights = _without_spurious(heights, plan.of("read"), record)
             model_path = None
             for step in plan.steps:
                 begin = time.perf_counter()
@@ -124,6 +131,29 @@ def _read(path, plan, record):
                   unit=heights.unit_source, missing=int(np.isnan(heights.z).sum()),
                   notes=list(heights.notes))
     return heights
+
+
+def _without_spurious(heights, options, record):
+    """``--spurious``: the file's spurious points found once, on the whole map, and treated as
+    unmeasured by every step (as each single command's ``--spurious`` finds them on the whole
+    file, with the file's seed and the F-operator ``form``); the detection's summary recorded.
+    A profile is left as read, with a note (the detection works on surfaces)."""
+    import dataclasses
+
+    import numpy as np
+
+    from roughgp.filling.spurious import detect_spurious
+    if heights.kind != "surface":
+        record["spurious"] = {"note": "a profile: --spurious works on surfaces"}
+        return heights
+    begin = time.perf_counter()
+    form = options.get("form", "plane")
+    found = detect_spurious(heights.z, spacing=heights.spacing,
+                            form=None if form == "none" else form, seed=record["seed"])
+    record["seconds"]["spurious"] = time.perf_counter() - begin
+    record["spurious"] = {"flagged": int(found.count), "rounds": int(found.rounds),
+                          "converged": bool(found.converged), "summary": found.summary()}
+    return dataclasses.replace(heights, z=np.where(found.flagged, np.nan, heights.z))
 
 
 def _texture(heights, options):

@@ -4,7 +4,8 @@
 The columns, in this order: ``path``, ``sha256``, ``status`` (``done`` or ``failed``),
 ``error``, ``seed`` (the file's, :func:`roughgp.batch.records.file_seed`), ``reader``,
 ``kind``, ``ny``, ``nx`` (``nx`` alone for a profile), ``spacing_y_um``, ``spacing_x_um``,
-``unit``, ``missing``; then every ISO parameter by its symbol (``Sq``, ``Sal``, ... or ``Ra``,
+``unit``, ``missing``; with ``--spurious``, ``spurious.flagged`` (the points found spurious
+and left unmeasured) and ``spurious.converged``; then every ISO parameter by its symbol (``Sq``, ``Sal``, ... or ``Ra``,
 ``Rq``, ...: heights and lengths in µm, ``Std`` in degrees, material ratios in percent); the
 model's ``model`` (the rung: ``eq18``, ``eq18-matern``, ``sm2d``, ``measured-psd``, ``eq21``),
 ``model_chosen`` (``--model auto``), ``marginal`` and its hyperparameters as
@@ -42,6 +43,10 @@ def _row(record: dict) -> dict:
         row.update(ny=shape[0], nx=shape[1], spacing_y_um=spacing[0], spacing_x_um=spacing[1])
     elif len(shape) == 1:
         row.update(nx=shape[0], spacing_x_um=spacing[0] if spacing else None)
+    spurious = record.get("spurious")
+    if spurious:
+        row.update({"spurious.flagged": spurious.get("flagged"),
+                    "spurious.converged": spurious.get("converged")})
     texture = record.get("texture") or {}
     row.update(texture.get("parameters", {}))
     fit = record.get("fit")

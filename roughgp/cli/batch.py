@@ -67,6 +67,7 @@ examples:
   roughgp batch data/ --out batch/                      texture, fit, check of every map
   roughgp batch 'maps/*.x3p' --steps texture,fit --model auto --workers 2 --out maps-batch/
   roughgp batch maps/ --part left --steps fit,check --out held-out/   out of sample
+  roughgp batch maps/ --spurious --part left --steps fit,check --out clean/  spikes left out
   roughgp batch maps/ --scheduler tcp://HOST:8786 --out /shared/batch/"""
 
 
@@ -121,6 +122,12 @@ def add_parser(sub, formatter) -> None:
                         f"(default 0)")
     g.add_argument("--unit", choices=("m", "mm", "um", "nm"), metavar="U",
                    help="the unit of the files' numbers (as the single commands' --unit)")
+    g.add_argument("--spurious", action="store_true",
+                   help="find each surface's spurious measured points (spikes, pits) once, on "
+                        "the whole map, by the GP's leave-one-out scores (as the single "
+                        "commands' --spurious, with the file's seed and --form), and treat "
+                        "them as unmeasured in every step; columns spurious.* (default: no "
+                        "point is removed)")
     o = b.add_argument_group("operators (texture and fit, as their commands)")
     o.add_argument("--form", choices=("plane", "polynomial", "cylinder", "none"),
                    default="plane", help="F-operator (default plane)")
@@ -215,6 +222,8 @@ def plan_of(args):
         operators["l"] = args.l_filter
     read = {"kind": args.kind, "spacing": args.spacing, "channel": args.channel,
             "unit": args.unit}
+    if args.spurious:   # only when given: the plans (and records) of earlier batches stay current
+        read.update(spurious=True, form=args.form)
     options = {"read": read,
                "texture": {**operators, "unfiltered": args.unfiltered, "l_kind": args.l_kind},
                "fit": {**operators, "model": args.rung, "marginal": args.marginal,

@@ -209,6 +209,7 @@ def run(args) -> int:
         if why:
             raise UsageError(f"--calibrate: {args.model}: {why}")
     fitted_part = _fitted_part(model, heights, args) if args.held_out else None
+    whole = heights
     heights, part = crop_to_part(args, heights)
     if args.tiles:
         from roughgp.checking.tiles import tile_slices
@@ -220,7 +221,9 @@ def run(args) -> int:
         except ValueError as error:
             raise UsageError(f"--{error}") from None
     spacing_note = _spacing_note(heights, model)
-    z, found = remove_spurious(args, heights, model.cutoffs.get("form", "plane"))  # model's F
+    # found on the whole file, --part or not (as fit ground --part), with the model's F
+    z, found = remove_spurious(args, whole, model.cutoffs.get("form", "plane"))
+    z = z if part is None else part.cut(z)
     start = time.perf_counter()
     models = None if args.predictive is None else _predictive_models(model, args, start)
     err(f"simulating {args.simulations} {model.kind}s of {' x '.join(map(str, z.shape))}"
@@ -237,7 +240,7 @@ def run(args) -> int:
     else:
         code = _whole(args, model, z, spacing, models, start, json_out, plot, spacing_note,
                       part, draws)
-    write_flagged(flagged_out, found, args, heights)
+    write_flagged(flagged_out, found, args, whole)
     return code
 
 

@@ -5,6 +5,7 @@ file (:mod:`roughgp.surface_models`). Argument handling and the printed table on
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 import time
 
@@ -251,8 +252,19 @@ def run(args) -> int:
                                      force=args.force)
     heights = read_input(args, getattr(args, "kind", "surface"))
     full_shape = heights.z.shape
+    whole = heights
     heights, part = crop_to_part(args, heights)
     check_cutoffs(operators, heights.z.shape, heights.spacing)
+    found = None
+    if args.model != "profile" and not more:
+        if heights.kind != "surface":
+            raise UsageError(f"{args.file} holds a profile; fit ground needs a surface "
+                             f"z[iy, ix] (fit a profile with: roughgp fit profile)")
+        check_block(args.file, args.block, heights.z.shape)
+        # found on the whole file, --part or not: a point's verdict depends on the file alone,
+        # and the fit and `check --held-out` leave out the same points
+        z, found = remove_spurious(args, whole, operators["form"])
+        heights = dataclasses.replace(heights, z=z if part is None else part.cut(z))
     for note in heights.notes:
         err(f"note: {args.file}: {note}")
     from roughgp.io.provenance import of_file
@@ -263,17 +275,17 @@ def run(args) -> int:
             f"columns {part.cols[0]}:{part.cols[1]} of {full_shape[0]} x {full_shape[1]}")
     start = time.perf_counter()
     if args.model == "profile":
-        model, found = _fit_profile(args, heights, operators, data), None
+        model = _fit_profile(args, heights, operators, data)
     elif more:
-        model, found = fit_population_files_command(args, heights, operators, data, more), None
+        model = fit_population_files_command(args, heights, operators, data, more)
     else:
-        model, found = _fit_ground(args, heights, operators, data)
+        model = _fit_ground(args, heights, operators, data)
     err(f"({time.perf_counter() - start:.1f} s)")
     if out is not None:
         with atomic_output(out) as partial:  # whole or not at all; missing folders made
             model.save(partial)
         err(f"wrote {out} (roughgp model file; roughgp simulate --from {out.name} ...)")
-    write_flagged(flagged_out, found, args, heights)
+    write_flagged(flagged_out, found, args, whole)
     return 0
 
 
@@ -423,29 +435,27 @@ def _print_mixture(model):
 
 
 def _fit_ground(args, heights, operators, data):
+    """``fit ground``'s one-map rungs on ``heights`` (its spurious points, with --spurious,
+    already unmeasured); returns the model."""
     from roughgp.surface_models.fit import fit_surface_model
-    if heights.kind != "surface":
-        raise UsageError(f"{args.file} holds a profile; fit ground needs a surface z[iy, ix] "
-                         f"(fit a profile with: roughgp fit profile)")
-    z, found = remove_spurious(args, heights, operators["form"])
-    check_block(args.file, args.block, z.shape)
+    z = heights.z
     missing = np.isnan(z)
     err(f"{args.file}: {z.shape[0]} x {z.shape[1]} points, spacing "
         f"{heights.spacing[0]:g} x {heights.spacing[1]:g} um ({heights.spacing_source}), "
         f"{missing.sum()} missing ({missing.mean():.1%}); fitting "
         + ("eq 18 plus noise ..." if args.rung == "eq18" else f"--model {args.rung} ..."))
     if args.rung == "field":
-        return fit_field_command(args, heights, operators, data, z), found
+        return fit_field_command(args, heights, operators, data, z)
     if args.rung == "population":
         return fit_population_command(args, [z], heights.spacing, operators, data,
-                                      [args.file]), found
+                                      [args.file])
     if args.rung == "periodic":
         model = fit_periodic_command(args, heights, operators, data, z)
         if model is not None:
-            return model, found
+            return model
         args.rung, args.fell_back = "auto", True
     if args.rung != "eq18":
-        return _fit_rungs(args, heights, operators, data, z), found
+        return _fit_rungs(args, heights, operators, data, z)
     with refused_by(args.file):
         result = fit_surface_model(z, heights.spacing, **operators, block=args.block,
                                    n_blocks=args.blocks, seed=args.seed, nu=args.nu,
@@ -473,7 +483,7 @@ def _fit_ground(args, heights, operators, data):
     for note in result.range_notes:
         print_wrapped(f"note: {note}")
     _print_marginal(model)
-    return model, found
+    return model
 
 
 def _print_marginal(model):

@@ -199,7 +199,8 @@ def add_spurious_options(parser) -> None:
     """--spurious, --flagged FILE: find the spurious measured points with the GP and leave them
     out (:func:`remove_spurious`)."""
     parser.add_argument("--spurious", action="store_true",
-                        help="find spurious measured points (spikes, pits) by the GP's "
+                        help="find spurious measured points (spikes, pits) of the whole "
+                             "FILE (--part or not) by the GP's "
                              "leave-one-out scores under a fit without them (|score| > 3.89: "
                              "1e-4 of a clean surface's points; the noise variance scored with "
                              "is at least a robust estimate from the heights' second "

@@ -356,3 +356,42 @@ def test_anchors_only_with_field_or_population(tmp_path, capsys):
     code, _, err = run(capsys, "batch", tmp_path, "--out", tmp_path / "o", "--model", "field",
                        "--anchors", "0", "2")
     assert code == 2 and "--anchors must be two integers in [1, 32]" in err
+
+
+def test_spurious_leaves_out_the_points_the_single_commands_do(tmp_path, capsys):
+    """``batch --spurious``: each surface's spikes found once, on the whole map, with the file's
+    seed; the fit on a half is the single ``fit ground --part left --spurious``'s, and the
+    table counts the points left out (the spike of 40 sd in the fitted half, seen, adds half
+    as much again to the fitted variance and noise)."""
+    from roughgp.experiments.held_out import synthetic_map
+    z, _, _ = synthetic_map("stationary", 4, shape=(32, 64))
+    z = z.copy()
+    z[10, 10] += 40.0 * np.nanstd(z)
+    z[20, 50] -= 40.0 * np.nanstd(z)
+    folder = tmp_path / "in"
+    folder.mkdir()
+    np.save(folder / "map.npy", z)
+    options = ("--steps", "fit", "--part", "left", "--l-filter", "none", "--likelihood",
+               "whittle")
+    code, _, err = run(capsys, "batch", folder, "--out", tmp_path / "out", "--workers", "1",
+                       "--spurious", *options)
+    assert code == 0, err
+    (record,) = _records(tmp_path / "out").values()
+    assert record["spurious"]["flagged"] >= 2
+    (row,) = read_csv_table(tmp_path / "out" / "table.csv")
+    assert int(row["spurious.flagged"]) == record["spurious"]["flagged"]
+    model = tmp_path / "single.json"
+    code, _, err = run(capsys, "fit", "ground", folder / "map.npy", "--part", "left",
+                       "--spurious", "--l-filter", "none", "--likelihood", "whittle",
+                       "--seed", record["seed"], "--out", model)
+    assert code == 0, err
+    single = json.loads(model.read_text())["hyperparameters"]
+    assert single == record["fit"]["hyperparameters"]
+    code, _, err = run(capsys, "batch", folder, "--out", tmp_path / "raw", "--workers", "1",
+                       *options)
+    assert code == 0, err
+    (raw,) = _records(tmp_path / "raw").values()
+    assert "spurious" not in raw
+    def total(h):
+        return h["variance_um2"] + h["noise_variance_um2"]
+    assert total(raw["fit"]["hyperparameters"]) > 1.5 * total(single)

@@ -59,3 +59,24 @@ def test_misuse_exits_2_with_one_line(capsys, tmp_path, spiked, argv, message):
     code, _, err = _run(capsys, *argv)
     assert code == 2 and message in err
     assert "Traceback" not in err
+
+
+def test_a_part_s_fit_and_the_held_out_check_leave_out_the_whole_file_s_points(capsys, tmp_path,
+                                                                                spiked):
+    """``--part left --spurious``: the points are found on the whole file, so the map of flagged
+    points is the file's (the pit in the right half flagged too), and ``fit ground --part`` and
+    ``check --held-out`` leave out the same points (the detection on the left half alone
+    flagged other points near its cut, and the check's map differed from the fit's)."""
+    path, z = spiked
+    model, fitted, checked = tmp_path / "m.json", tmp_path / "fit.npy", tmp_path / "check.npy"
+    code, _, err = _run(capsys, "fit", "ground", path, "--part", "left", "--spurious",
+                        "--flagged", fitted, "--block", "12", "--blocks", "4", "--l-filter",
+                        "none", "--out", model)
+    assert code == 0, err
+    flagged = np.load(fitted).astype(bool)
+    assert flagged.shape == z.shape
+    assert flagged[10, 20] and flagged[30, 40] and flagged[40, 10]
+    code, _, err = _run(capsys, "check", model, path, "--held-out", "--spurious", "--flagged",
+                        checked, "--simulations", "4")
+    assert code == 0, err
+    assert np.array_equal(np.load(checked).astype(bool), flagged)
