@@ -19,12 +19,11 @@ from 3.8 to 4.2 in the simulations. A simulation is made as follows (:func:`iaaf
 2. keep the amplitudes of its DFT, :math:`A = |\mathrm{DFT}(x_0)|`, scaled to the target
    distribution's variance (the model's spectral shape, the distribution's power; at zero
    frequency the target distribution's sum, its mean);
-3. *rank remap*: replace the field's values, in their rank order, by a random sample of the
-   target distribution, drawn once per simulation (sorted uniform probabilities through the
-   quantile function, interpolated
-   linearly in the normal score between the stored quantiles, and beyond the measured
-   extremes, for a field of more points than the measurement, continued straight with the
-   slope of the table's outermost unit of normal score);
+3. *rank remap*: replace the field's values, in their rank order, by a sample of the target
+   distribution made once per simulation from the draw of step 1: its normal scores through
+   the quantile function (below), interpolated linearly in the normal score between the
+   stored quantiles, and beyond the measured extremes continued straight with the slope of
+   the table's outermost unit of normal score;
 4. *spectrum*: replace the DFT amplitudes of the result by :math:`A`, keeping its phases;
 5. repeat 3-4 until the rank order no longer changes between two remaps (the stated stopping
    rule) or after ``iterations`` rounds (:data:`ITERATIONS` by default), and end on a remap.
@@ -69,13 +68,28 @@ matrix-3 2 and 3 before, 0 and 0 after; sur-2 2 and 3, 0 and 1; sample-land 3 an
 nms-1 7 and 8, 3 and 4; al3d-1 1 and 2, 0 and 0. It costs a Gaussian filter and a sort a round
 (0.17 s a 256 x 256 simulation before, 0.29 s with 3 rounds).
 
+**Each simulation's sample carries the spread of a correlated surface.** Step 3's sample is
+not drawn point by point: it is the Gaussian draw itself through the target's quantile
+function, :math:`Q(\Phi(x / s))` at each point (:func:`remap_sd` gives :math:`s`, the draw's
+standard deviation over realisations: the model's ACVF at lag 0 plus its noise, or, with an
+L-filter, what the filter passes of its spectrum). A sample drawn point by point varies from
+simulation to simulation as if the field's points were independent; a correlated surface's
+Sq, skewness and kurtosis vary far more (a field holds only so many correlation areas). On a
+128 x 128 Gaussian eq 18 map the standard deviations of the simulations' log Sq, skewness and
+kurtosis were 0.76, 0.59 and 0.47 times those of the same model's Gaussian draws with the
+sample drawn point by point (only the crop from a field of twice the points gave it any
+spread), and are 0.94, 0.80 and 0.84 times with the draw's own scores (``test_iaaft.py``).
+What it does not do is make the measured heights a model of the whole surface: they are the
+fitted crop's sample, and another crop's sample lies as far again from it
+(``benchmarks/iaaft_held_out.py``; the chapter "Which model reproduces which measurement").
+
 The population has exactly the target distribution (step 3 is last) and a DFT amplitude
 spectrum close to the Gaussian draw's (step 4 is exact before the last remap; the tests
-measure how close). Everything random is in steps 1 and 3's sample, drawn from the model's
-seeded generator: the same seed gives the same surface. A fixed set of values (the plotting
-positions) gave every simulation the same population extremes: half of them had the very
-same maximum. The DFT treats the field as periodic; its amplitudes include the draw's edges,
-and the iterations keep them.
+measure how close). Everything random is in step 1's draw (step 3's sample is made of it),
+drawn from the model's seeded generator: the same seed gives the same surface. A fixed set of
+values (the plotting positions) gave every simulation the same population extremes: half of
+them had the very same maximum. The DFT treats the field as periodic; its amplitudes include
+the draw's edges, and the iterations keep them.
 """
 
 from __future__ import annotations
@@ -88,8 +102,8 @@ import scipy.ndimage
 import scipy.special
 
 __all__ = ["N_QUANTILES", "ITERATIONS", "BAND_ROUNDS", "BAND_TOLERANCE", "quantile_table",
-           "quantile_values", "values_at_scores", "johnson_values", "iaaft", "iaaft_above",
-           "band_rounds"]
+           "quantile_values", "values_at_scores", "iaaft", "iaaft_above",
+           "band_rounds", "remap_sd"]
 
 N_QUANTILES = 1001  #: quantiles stored: probabilities 0, 0.001, ..., 1 (the extremes included)
 ITERATIONS = 10  #: the most rounds of remap and spectrum (fewer when the ranks settle)
@@ -150,13 +164,6 @@ def values_at_scores(quantiles, tail_probability, t):
     return np.where(t > scores[-1], q[-1] + high_slope * (t - scores[-1]), values)
 
 
-def johnson_values(johnson, n, rng=None):
-    """``n`` values of a :class:`~roughgp.non_gaussian.johnson.Johnson` distribution,
-    ascending, at the probabilities of :func:`quantile_values`."""
-    p = _probabilities(n, rng)
-    return np.asarray(johnson.transform(scipy.special.ndtri(p)), dtype=np.float64)
-
-
 def _remap(x, values):
     order = np.argsort(x, axis=None)  # quicksort: 0.045 s for 524k points, stable 0.073 s
     out = np.empty(x.size)
@@ -166,8 +173,9 @@ def _remap(x, values):
 
 def iaaft(field, values, iterations=ITERATIONS):
     """``(surface, rounds)``: the Gaussian ``field`` (a surface or a profile) given the
-    distribution ``values`` (``field.size`` values, ascending: :func:`quantile_values` or
-    :func:`johnson_values`) and the DFT amplitudes of ``field`` (module docstring);
+    distribution ``values`` (``field.size`` values, ascending: the model's sample,
+    :meth:`~roughgp.surface_models.model.FittedModel.simulate`, or :func:`quantile_values`)
+    and the DFT amplitudes of ``field`` (module docstring);
     ``rounds``: the rounds run."""
     field = np.asarray(field, dtype=np.float64)
     values = np.asarray(values, dtype=np.float64)
@@ -225,3 +233,29 @@ def band_rounds(surface, values, sigmas, rounds=BAND_ROUNDS, tolerance=BAND_TOLE
                                           and residuals[-1] > 0.9 * residuals[-2]):
             break
     return surface, residuals
+
+
+def remap_sd(acvf, noise_variance, shape, spacing, l_um=None) -> float:
+    """The standard deviation over realisations of what the remap acts on (module docstring):
+    a field of ``shape`` at ``spacing`` of the Gaussian model whose latent ACVF is ``acvf`` (a
+    roughgp kernel or a function of lags ``(..., D)``, um) plus white noise of
+    ``noise_variance`` (um^2); with ``l_um``, what the Gaussian L-filter of that cut-off
+    passes of it (:func:`iaaft_above`), from the ACVF's spectrum on the ``2 n - 1`` lags of
+    each axis (the negative ordinates of a covariance the torus cannot embed set to 0)."""
+    from roughgp.common.grid import centred_lags
+    from roughgp.sampling.grid_sampler import acvf_of
+    spacing = tuple(float(d) for d in np.broadcast_to(spacing, (len(shape),)))
+    if l_um is None:
+        zero = np.zeros((1, len(shape)))
+        return math.sqrt(float(acvf_of(acvf)(zero)[0]) + noise_variance)
+    table = np.asarray(acvf_of(acvf)(centred_lags(tuple(2 * n - 1 for n in shape), spacing)),
+                       dtype=np.float64)
+    spectrum = np.clip(scipy.fft.fftn(scipy.fft.ifftshift(table)).real, 0.0, None)
+    sigma = _ALPHA * l_um / math.sqrt(2.0 * math.pi)
+    gain = np.ones(table.shape)
+    for axis, (n, d) in enumerate(zip(table.shape, spacing)):
+        f = scipy.fft.fftfreq(n)   # cycles a point
+        along = np.exp(-2.0 * (math.pi * sigma / d * f) ** 2)
+        gain = gain * along.reshape([-1 if k == axis else 1 for k in range(len(shape))])
+    passed = (1.0 - gain) ** 2
+    return math.sqrt(float(np.mean(spectrum * passed)) + noise_variance * float(np.mean(passed)))

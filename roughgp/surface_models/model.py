@@ -341,7 +341,7 @@ class FittedModel:
         if self.equation == "measured-psd":
             from roughgp.surface_models.measured_psd import draw_psd_model
             return self._returned(draw_psd_model(self, shape, spacing, rng, count,
-                                                 self._remapper(spacing, rng) if remap
+                                                 self._remapper(spacing) if remap
                                                  else None), n_samples)
         if remap:  # on twice the field's points, then cropped (roughgp.surface_models.iaaft)
             big = tuple(s.stop for s in population_slices(shape))
@@ -349,7 +349,7 @@ class FittedModel:
                                  method=method, seed=rng)
             z = GaussianNoise(self.noise_variance).sample(latent, seed=rng)
             crop = (slice(None),) + tuple(slice(0, n) for n in shape)
-            remapped = self._remapper(spacing, rng)
+            remapped = self._remapper(spacing)
             return self._returned(np.stack([remapped(f) for f in z])[crop], n_samples)
         if self.marginal is None:
             latent = sample_grid(self.kernel(), shape, spacing=spacing, n_samples=count,
@@ -409,8 +409,8 @@ class FittedModel:
             return "gaussian"
         return self.marginal.get("method", "johnson")
 
-    def _remapper(self, spacing, rng):
-        """The function that gives a Gaussian draw (at ``spacing``; ``rng``: the sample's) the
+    def _remapper(self, spacing):
+        """The function that gives a Gaussian draw (at ``spacing``) the
         model's height distribution by IAAFT (:mod:`roughgp.surface_models.iaaft`): the
         stored quantiles, in the band above the L-filter's cut-off when the marginal has
         ``above_l_um`` (:func:`~roughgp.surface_models.iaaft.iaaft_above`), or, for the
@@ -419,26 +419,35 @@ class FittedModel:
         the PSD)."""
         from roughgp.surface_models import iaaft
         cut = self.marginal.get("above_l_um") if self.marginal_method == "iaaft" else None
-        remapped = lambda field: self._remapped(field, rng)  # noqa: E731
+        sds = {}   # the remapped field's sd over realisations, by shape (iaaft.remap_sd)
+
+        def remapped(field):
+            if field.shape not in sds:
+                sds[field.shape] = iaaft.remap_sd(self.kernel(), self.noise_variance,
+                                                  field.shape, spacing, cut)
+            return self._remapped(field, sds[field.shape])
         if cut is None:
             return remapped
         return lambda field: iaaft.iaaft_above(field, remapped, cut, spacing)
 
-    def _remapped(self, field, rng):
-        """``field`` given the model's height distribution by IAAFT (:meth:`_remapper`)."""
+    def _remapped(self, field, sd):
+        """``field`` given the model's height distribution by IAAFT (:meth:`_remapper`), its
+        sample the field's own normal scores ``field / sd`` through the target's quantile
+        function (:mod:`roughgp.surface_models.iaaft`: the spread of a correlated surface)."""
         from roughgp.surface_models import iaaft
+        scores = field / sd
         if self.marginal_method == "iaaft":
-            values = iaaft.quantile_values(self.marginal["quantiles_um"],
-                                           self.marginal["tail_probability"], field.size, rng)
+            values = iaaft.values_at_scores(self.marginal["quantiles_um"],
+                                            self.marginal["tail_probability"], scores)
             iterations = int(self.marginal["iterations"])
         else:
             from roughgp.non_gaussian.johnson import johnson_for
             johnson = johnson_for(self.marginal["skewness"], self.marginal["kurtosis"],
                                   self.latent_variance())
-            values = iaaft.johnson_values(johnson, field.size, rng) \
+            values = np.asarray(johnson.transform(scores), dtype=np.float64) \
                 + float(self.hyperparameters.get("mean_um", 0.0))
             iterations = iaaft.ITERATIONS
-        return iaaft.iaaft(field, values, iterations)[0]
+        return iaaft.iaaft(field, np.sort(values, axis=None), iterations)[0]
 
     # ------------------------------------------------------------------ the file
     def to_dict(self) -> dict:

@@ -1,0 +1,33 @@
+"""The IAAFT heights out of sample (roughgp.experiments.iaaft_held_out): the synthetic maps and
+the summary's shares."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.stats
+
+from roughgp.experiments import iaaft_held_out as ih
+
+
+def test_the_lognormal_maps_are_skewed_and_seeded():
+    z = ih.synthetic_map("lognormal", 0)
+    assert z.shape == ih.SHAPE and scipy.stats.skew(z.ravel()) > 1.0
+    np.testing.assert_array_equal(z, ih.synthetic_map("lognormal", 0))
+    assert abs(scipy.stats.skew(ih.synthetic_map("gaussian", 0).ravel())) < 0.5
+    with pytest.raises(ValueError, match="kind must be one of gaussian, lognormal"):
+        ih.synthetic_map("weibull", 0)
+
+
+def test_the_summary_averages_each_case_s_share_of_the_13():
+    def case(index, gaussian, iaaft):
+        return {"kind": "gaussian", "index": index, "seed": 0, "seconds": 1.0,
+                "checks": {"gaussian": {"fitted": [], "held_out": gaussian},
+                           "iaaft": {"fitted": [], "held_out": iaaft},
+                           "iaaft-predictive": {"fitted": [], "held_out": []}}}
+    records = [case(0, ["Sq"], ["Sq", "Sa", "Sk"]), case(1, [], ["Sku"])]
+    table = ih.summary(records).set_index(["heights", "half"])
+    assert table.loc[("iaaft", "held-out"), "outside (mean of 13)"] == pytest.approx(2 / 13)
+    assert table.loc[("gaussian", "held-out"), "Sq outside"] == 0.5
+    assert table.loc[("gaussian", "fitted"), "outside (mean of 13)"] == 0
+    assert set(table["cases"]) == {2}
