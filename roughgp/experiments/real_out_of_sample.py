@@ -32,7 +32,7 @@ from roughgp.common.jsonl import read_records
 from roughgp.experiments.real_maps import REAL_MAPS
 
 __all__ = ["LONG", "SHORT", "PASS", "MODELS", "RECORDED", "WINDOWS_DATE", "Model", "split_window",
-           "write_windows", "row_of", "load_rows", "summary", "per_map", "sq_ratio",
+           "write_windows", "row_of", "load_rows", "summary", "per_map", "sq_ratio", "sq_spans",
            "outside_by_parameter"]
 
 LONG, SHORT = 512, 256  #: the window: at most 512 points along the longer axis, 256 across
@@ -49,6 +49,15 @@ class Model:
     options: tuple
     about: str
 
+    @property
+    def spurious(self) -> bool:
+        """Whether the run leaves out the spurious points (``--spurious``)."""
+        return "--spurious" in self.options
+
+
+#: the names of the models run with ``--spurious`` (filled below)
+_SPURIOUS: frozenset = frozenset()
+
 
 MODELS = (
     Model("eq18", ("--model", "eq18", "--likelihood", "whittle"),
@@ -59,16 +68,23 @@ MODELS = (
           "covariance (the fit's uncertainty carried)"),
     Model("auto", ("--model", "auto"),
           "the ladder's choice (fit ground --model auto): the rung by held-out prediction, "
-          "its heights by the out-of-sample check on the fitted half's own halves (since "
-          "2026-12-06; the rows recorded on 2026-12-05 predate that: Gaussian heights)"),
+          "its heights by the out-of-sample check on the fitted half's own halves (its rows "
+          "were recorded before each IAAFT simulation's sample was its draw's own scores, "
+          "roughgp.surface_models.iaaft, on the windows of 2026-12-05)"),
     Model("sm-iaaft", ("--model", "sm", "--marginal", "iaaft"),
           "2-D spectral mixture, the measured heights (IAAFT)"),
     Model("psd-iaaft", ("--model", "psd", "--marginal", "iaaft"),
           "the measured PSD, the measured heights (IAAFT)"),
+    Model("psd-iaaft-spurious", ("--spurious", "--model", "psd", "--marginal", "iaaft"),
+          "psd-iaaft with the window's spurious points (spikes, pits) found by the GP and "
+          "left unmeasured in the fit and both checks (batch --spurious)"),
     Model("population", ("--model", "population", "--anchors", "2", "2"),
           "eq 18 per tile of half A (2 x 2), pooled by random effects; each simulation a new "
           "region"),
 )
+
+
+_SPURIOUS = frozenset(m.name for m in MODELS if m.spurious)
 
 
 def split_window(shape) -> tuple:
@@ -123,12 +139,38 @@ def row_of(model: str, record: dict) -> dict:
             "rung": fit.get("rung"), "chosen": fit.get("chosen"), "heights": fit.get("heights"),
             "fitted_outside": inside.get("outside"), "held_out_outside": held.get("outside"),
             "sq_um": [_measured(inside, "Sq"), _measured(held, "Sq")],
+            "held_out_sq_range_um": _simulated_range(held, "Sq"),
+            "spurious_flagged": (record.get("spurious") or {}).get("flagged"),
             "seconds": (record.get("seconds") or {}).get("total"),
             "error": record.get("error")}
 
 
 def _measured(check: dict, name: str):
     return ((check.get("parameters") or {}).get(name) or {}).get("measured")
+
+
+def _simulated_range(check: dict, name: str):
+    """``[lowest, highest]`` of the simulations' ``name`` in a check's record, else None."""
+    entry = (check.get("parameters") or {}).get(name) or {}
+    low, high = entry.get("low"), entry.get("high")
+    return None if low is None or high is None else [low, high]
+
+
+def sq_spans(rows, model) -> "pandas.DataFrame":
+    """Per map of ``model``'s rows that recorded it: how far the held-out half's Sq lies from
+    the fitted half's (``|log(Sq B / Sq A)|``) and how widely the simulations' Sq spreads on
+    the held-out half (``log(highest / lowest)`` of the 19), both in the same log units. The
+    simulations of a model fitted on A are centred near A's Sq: a distance beyond about half
+    their spread puts B's Sq outside."""
+    import pandas as pd
+    lines = {}
+    for r in rows:
+        span = r.get("held_out_sq_range_um")
+        a, b = r.get("sq_um") or (None, None)
+        if r["model"] == model and span and a and b and min(span) > 0:
+            lines[r["map"]] = {"halves apart": abs(float(np.log(b / a))),
+                               "simulations' spread": float(np.log(span[1] / span[0]))}
+    return pd.DataFrame.from_dict(lines, orient="index")
 
 
 def load_rows(path=RECORDED) -> list:
@@ -157,10 +199,12 @@ def per_map(rows) -> "pandas.DataFrame":
 
 def sq_ratio(rows, name) -> float:
     """The measured Sq of the held-out half over the fitted half's for the map ``name`` (the
-    same for every model: the halves' own roughness), NaN where no check recorded it."""
+    same for every model run on the heights as measured: the halves' own roughness; the runs
+    with ``--spurious`` measure the halves without their spurious points), NaN where no check
+    recorded it."""
     for r in rows:
         a, b = r.get("sq_um") or (None, None)
-        if r["map"] == name and a and b:
+        if r["map"] == name and a and b and r["model"] not in _SPURIOUS:
             return float(b) / float(a)
     return np.nan
 
@@ -183,9 +227,10 @@ def outside_by_parameter(rows, half="held_out") -> "pandas.DataFrame":
 def summary(rows) -> "pandas.DataFrame":
     """Per model: the maps it was run on, those fitted (not refused), and the share of the maps
     run with at most :data:`PASS` outside on the fitted half and on the held-out half (a
-    refused map counts as not reproduced), the mean count outside on each. The last row,
-    ``best in hindsight``, takes per map the model with the fewest outside on the held-out
-    half: an upper bound, since it chooses on that half."""
+    refused map counts as not reproduced), the mean count outside on each. The row ``best in
+    hindsight`` takes per map the model run on the heights as measured with the fewest outside
+    on the held-out half: an upper bound, since it chooses on that half; ``best in hindsight,
+    spurious left out`` the same among the runs with ``--spurious``, where there are any."""
     import pandas as pd
     lines = []
 
@@ -204,10 +249,14 @@ def summary(rows) -> "pandas.DataFrame":
         chosen = [r for r in rows if r["model"] == m.name]
         if chosen:
             line(m.name, chosen)
-    best = []
-    for name in sorted({r["map"] for r in rows}):
-        fitted = [r for r in rows if r["map"] == name and not r["error"]]
-        if fitted:
-            best.append(min(fitted, key=lambda r: _count(r["held_out_outside"])))
-    line("best in hindsight", best)
+    for label, left_out in (("best in hindsight", False),
+                            ("best in hindsight, spurious left out", True)):
+        best = []
+        for name in sorted({r["map"] for r in rows}):
+            fitted = [r for r in rows if r["map"] == name and not r["error"]
+                      and (r["model"] in _SPURIOUS) == left_out]
+            if fitted:
+                best.append(min(fitted, key=lambda r: _count(r["held_out_outside"])))
+        if best:
+            line(label, best)
     return pd.DataFrame(lines)

@@ -70,3 +70,19 @@ def test_the_windows_bytes_and_so_their_batch_seeds_depend_on_the_map_alone(tmp_
         groups = ros.write_windows(tmp_path / folder, (real_file("opd-1.opd"),))
         digests += [file_sha256(path) for paths in groups.values() for path in paths]
     assert len(digests) == 2 and digests[0] == digests[1]
+
+
+def test_the_runs_without_their_spurious_points_get_their_own_hindsight_bound():
+    """A model run with --spurious measures the halves without their spikes: its rows neither
+    set the maps' Sq ratio nor join the hindsight bound of the heights as measured."""
+    p13 = [f"P{i}" for i in range(13)]
+    clean = _record("a.x3p", [], [])
+    clean["check"]["parameters"]["Sq"]["measured"] = 1.0
+    rows = [ros.row_of("psd-iaaft", _record("a.x3p", [], p13[:5])),
+            ros.row_of("psd-iaaft-spurious", clean)]
+    assert ros.MODELS[[m.name for m in ros.MODELS].index("psd-iaaft-spurious")].spurious
+    table = ros.summary(rows).set_index("model")
+    assert table.loc["best in hindsight", "B: mean outside"] == 5
+    assert table.loc["best in hindsight, spurious left out", "B: mean outside"] == 0
+    assert ros.sq_ratio(rows, "a") == 1.5
+    assert ros.summary(rows[:1]).iloc[-1]["model"] == "best in hindsight"
