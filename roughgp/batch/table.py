@@ -4,19 +4,18 @@
 The columns, in this order: ``path``, ``sha256``, ``status`` (``done`` or ``failed``),
 ``error``, ``seed`` (the file's, :func:`roughgp.batch.records.file_seed`), ``reader``,
 ``kind``, ``ny``, ``nx`` (``nx`` alone for a profile), ``spacing_y_um``, ``spacing_x_um``,
-``unit``, ``missing``; with ``--spurious``, ``spurious.flagged`` (the points found spurious
-and left unmeasured) and ``spurious.converged``; then every ISO parameter by its symbol (``Sq``, ``Sal``, ... or ``Ra``,
-``Rq``, ...: heights and lengths in µm, ``Std`` in degrees, material ratios in percent); the
-model's ``model`` (the rung: ``eq18``, ``eq18-matern``, ``sm2d``, ``measured-psd``, ``eq21``),
-``model_chosen`` (``--model auto``), ``marginal`` and its hyperparameters as
-``fit.NAME`` (lists as JSON text), ``model_file``, ``part`` (the half fitted, ``--part``); the
-check's ``check_outside`` (the parameters outside the simulated range, comma-separated),
-``check_count`` (how many) and, per parameter, ``check.NAME.rank`` and ``check.NAME.outside``
-(with ``--part``: on the fitted half; the same columns ``held_out*`` on the other half),
-``check_simulations`` (``predictive (refits)`` or ``predictive (sandwich)`` with
-``--predictive``; empty: plug-in);
-``filled``, ``filled_file``, ``simulated_file``; the timings ``seconds.STEP`` and
-``seconds.total``. A column a file does not have is empty (null).
+``unit``, ``missing``; with ``--spurious``, ``spurious.flagged`` (the points found spurious and
+left unmeasured) and ``spurious.converged``; then every ISO parameter by its symbol (``Sq``,
+``Sal``, ... or ``Ra``, ``Rq``, ...: heights and lengths in µm, ``Std`` in degrees, material
+ratios in percent); the model's ``model`` (the rung: ``eq18``, ``eq18-matern``, ``sm2d``,
+``measured-psd``, ``eq21``), ``model_chosen`` (``--model auto``), ``marginal`` and its
+hyperparameters as ``fit.NAME`` (lists as JSON text), ``model_file``, ``part`` (the half
+fitted, ``--part``); the check's ``check_outside`` (the parameters outside the simulated range,
+comma-separated), ``check_count`` (how many) and, per parameter, ``check.NAME.rank`` and
+``check.NAME.outside`` (with ``--part``: on the fitted half; the same columns ``held_out*`` on
+the other half), ``check_simulations`` (``predictive (refits)`` or ``predictive (sandwich)``
+with ``--predictive``; empty: plug-in); ``filled``, ``filled_file``, ``simulated_file``; the
+timings ``seconds.STEP`` and ``seconds.total``. A column a file does not have is empty (null).
 """
 
 from __future__ import annotations
