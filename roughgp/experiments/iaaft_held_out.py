@@ -108,7 +108,6 @@ def summary(records) -> "pandas.DataFrame":
         for marginal in MARGINALS:
             for half in ("fitted", "held_out"):
                 outside = [set(r["checks"][marginal][half]) for r in rows]
-                n = len(outside)
                 mean = [len(o) / len(SURFACE_PARAMETERS) for o in outside]
                 share, low, high = share_interval(mean)
                 sq, sq_low, sq_high = share_interval(["Sq" in o for o in outside])

@@ -55,9 +55,6 @@ class Model:
         return "--spurious" in self.options
 
 
-#: the names of the models run with ``--spurious`` (filled below)
-_SPURIOUS: frozenset = frozenset()
-
 
 MODELS = (
     Model("eq18", ("--model", "eq18", "--likelihood", "whittle"),
@@ -84,6 +81,7 @@ MODELS = (
 )
 
 
+#: the names of the models run with ``--spurious``
 _SPURIOUS = frozenset(m.name for m in MODELS if m.spurious)
 
 

@@ -101,6 +101,8 @@ import scipy.fft
 import scipy.ndimage
 import scipy.special
 
+from roughgp.metrology.filters import ALPHA
+
 __all__ = ["N_QUANTILES", "ITERATIONS", "BAND_ROUNDS", "BAND_TOLERANCE", "quantile_table",
            "quantile_values", "values_at_scores", "iaaft", "iaaft_above",
            "band_rounds", "remap_sd"]
@@ -198,7 +200,11 @@ def iaaft(field, values, iterations=ITERATIONS):
 
 
 #: the ISO 16610-21 Gaussian weighting function's constant, sqrt(ln 2 / pi)
-_ALPHA = math.sqrt(math.log(2.0) / math.pi)
+def _filter_sigma(l_um) -> float:
+    """The standard deviation (um) of the Gaussian L-filter of cut-off ``l_um`` (ISO 16610-21:
+    its weighting function is :math:`\\exp(-\\pi (x / (\\alpha \\lambda_c))^2)`,
+    :data:`~roughgp.metrology.filters.ALPHA`)."""
+    return ALPHA * l_um / math.sqrt(2.0 * math.pi)
 
 
 def iaaft_above(field, remap, l_um, spacing, rounds=BAND_ROUNDS):
@@ -208,7 +214,7 @@ def iaaft_above(field, remap, l_um, spacing, rounds=BAND_ROUNDS):
     waves it takes out and the rest; the rest given the target distribution by ``remap``
     (:func:`iaaft`), the long waves added back; then up to ``rounds`` - 1 rank remaps of what
     the filter passes of the sum (:func:`band_rounds`, module docstring)."""
-    sigma = _ALPHA * l_um / math.sqrt(2.0 * math.pi)
+    sigma = _filter_sigma(l_um)
     sigmas = [sigma / d for d in np.broadcast_to(spacing, (field.ndim,))]
     low = scipy.ndimage.gaussian_filter(field, sigmas, mode="reflect")
     band = remap(field - low)
@@ -251,11 +257,9 @@ def remap_sd(acvf, noise_variance, shape, spacing, l_um=None) -> float:
     table = np.asarray(acvf_of(acvf)(centred_lags(tuple(2 * n - 1 for n in shape), spacing)),
                        dtype=np.float64)
     spectrum = np.clip(scipy.fft.fftn(scipy.fft.ifftshift(table)).real, 0.0, None)
-    sigma = _ALPHA * l_um / math.sqrt(2.0 * math.pi)
-    gain = np.ones(table.shape)
+    gain = np.ones(table.shape)   # the mean line's transmission, exp(-pi (alpha l f)^2)
     for axis, (n, d) in enumerate(zip(table.shape, spacing)):
-        f = scipy.fft.fftfreq(n)   # cycles a point
-        along = np.exp(-2.0 * (math.pi * sigma / d * f) ** 2)
+        along = np.exp(-math.pi * (ALPHA * l_um * scipy.fft.fftfreq(n, d)) ** 2)
         gain = gain * along.reshape([-1 if k == axis else 1 for k in range(len(shape))])
     passed = (1.0 - gain) ** 2
     return math.sqrt(float(np.mean(spectrum * passed)) + noise_variance * float(np.mean(passed)))

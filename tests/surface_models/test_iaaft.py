@@ -161,7 +161,7 @@ def test_the_band_the_filter_passes_is_remapped_until_it_has_the_target_distribu
     values = np.sort(np.random.default_rng(4).lognormal(0.0, 0.8, field.size))
     values -= values.mean()  # the filtered heights' distribution: mean 0
     remap = lambda f: iaaft.iaaft(f, values)[0]  # noqa: E731
-    sigma = iaaft._ALPHA * 20.0 / math.sqrt(2.0 * math.pi)
+    sigma = iaaft._filter_sigma(20.0)
 
     def band_misfit(surface):
         band = surface - scipy.ndimage.gaussian_filter(surface, sigma, mode="reflect")
@@ -195,7 +195,7 @@ def test_remap_sd_is_the_sd_of_what_the_remap_acts_on(l_um):
     40 draws of 181 x 181 points."""
     draws = sample_grid(KERNEL, (181, 181), seed=4, n_samples=40)
     if l_um is not None:
-        sigma = iaaft._ALPHA * l_um / math.sqrt(2.0 * math.pi)
+        sigma = iaaft._filter_sigma(l_um)
         draws = np.stack([d - scipy.ndimage.gaussian_filter(d, sigma, mode="reflect")
                           for d in draws])
     expected = iaaft.remap_sd(KERNEL, 0.0, (181, 181), 1.0, l_um)
@@ -208,8 +208,7 @@ def test_the_simulations_spread_as_a_correlated_surface_s_do():
     surface the simulations' Sq, skewness and kurtosis spread about as the Gaussian model's
     simulations' do (their sds' ratios 0.94, 0.80 and 0.84). A sample drawn point by point
     spread them less (0.76, 0.59 and 0.47: only the crop from a field of twice the points
-    gave it any spread), and a model fitted on one half of a map put the other half
-    outside too often."""
+    gave it any spread)."""
     z = sample_grid(KERNEL, (128, 128), seed=5)[0]
     spread = {}
     for marginal in ("gaussian", "iaaft"):
