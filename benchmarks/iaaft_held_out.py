@@ -2,10 +2,12 @@
 not fitted on? ``roughgp.experiments.iaaft_held_out`` on synthetic maps of known models (issue
 40: the check of the IAAFT models).
 
-Each case (a 128 x 256 map of eq 18, Gaussian or lognormal heights; the measured-PSD model with
-Gaussian and with IAAFT heights fitted on its left half and checked on both halves) is
+Each case (a 128 x 256 map of eq 18, Gaussian or lognormal heights, or a map whose halves
+differ: two regions, a roughness gradient; the measured-PSD model with Gaussian and with IAAFT
+heights fitted on its left half and checked on both halves, plug-in and predictive) is
 appended to ``benchmarks/results/iaaft_held_out.jsonl`` as it ends (a case already there is
-skipped: a run resumes); ``--report`` writes the Markdown table beside it and prints it. The
+skipped: a run resumes; a marginal added to the experiment later is run alone for the recorded
+cases, a line of its own); ``--report`` writes the Markdown table beside it and prints it. The
 cases run on the Dask engine of ``roughgp batch`` (one BLAS thread per worker). Not a test:
 
     python benchmarks/iaaft_held_out.py --cases 40 --workers 2
@@ -16,12 +18,13 @@ from __future__ import annotations
 
 import argparse
 import datetime
+import functools
 from pathlib import Path
 
 from roughgp.batch.engine import add_cluster_options, appending_records, on_one_thread, run_cases
 from roughgp.common.atomic import atomic_output
-from roughgp.experiments.iaaft_held_out import (KINDS, RECORDED, iaaft_held_out_case,
-                                                load_records, summary)
+from roughgp.experiments.iaaft_held_out import (KINDS, MARGINALS_OF, RECORDED,
+                                                iaaft_held_out_case, load_records, summary)
 
 
 def main(argv=None) -> int:
@@ -43,12 +46,17 @@ def main(argv=None) -> int:
             Path(partial).write_text(text)
         print(text)
         return 0
-    done = {(r["kind"], r["index"], r["seed"]) for r in load_records()}
-    todo = [(kind, i) for i in range(args.cases) for kind in KINDS
-            if (kind, i, args.seed) not in done]
+    done = {(r["kind"], r["index"], r["seed"]): set(r["checks"]) for r in load_records()}
+    todo = [(kind, i, tuple(m for m in MARGINALS_OF[kind]
+                            if m not in done.get((kind, i, args.seed), ())))
+            for i in range(args.cases) for kind in KINDS]
+    todo = [t for t in todo if t[2]]
     print(f"{len(todo)} case(s) to run, {len(done)} recorded in {RECORDED}", flush=True)
-    cases = [(f"{kind} {i}", (iaaft_held_out_case, kind, i), f"iaaft-{kind}-{i}-{args.seed}")
-             for kind, i in todo]
+    cases = [(f"{kind} {i} ({', '.join(marginals)})",
+              (functools.partial(iaaft_held_out_case, marginals=marginals, seed=args.seed),
+               kind, i),
+              f"iaaft-{kind}-{i}-{args.seed}-{'-'.join(marginals)}")
+             for kind, i, marginals in todo]
     run_cases(on_one_thread, cases, workers=args.workers, scheduler=args.scheduler,
               on_result=appending_records(
                   RECORDED, lambda r: " ".join(f"{m} {len(c['fitted'])}/{len(c['held_out'])}"

@@ -289,19 +289,21 @@ def _check(path, heights, model_path, options, seed, folder):
     a model fitted on a part (``--part``), ``check --held-out``: the fitted part and the other
     half, the latter recorded as ``held_out``; with ``predictive`` (B) the simulations drawn
     from B models of :func:`~roughgp.checking.predictive.predictive_models` (``predictive_from``:
-    refits or sandwich), recorded in the check's entry."""
+    refits, sandwich, or tiles of the fitted part), recorded in the check's entry."""
     from roughgp.api import check
     from roughgp.surface_models.model import FittedModel
     model = FittedModel.load(model_path)
     spacing = heights.spacing if model.kind == "surface" else (heights.spacing[-1],)
     n = options.get("simulations", 19)
     models, held = None, ()
+    part = model.data.get("part") if isinstance(model.data, dict) else None
     if options.get("predictive"):
+        from roughgp.checking.held_out import Part
         from roughgp.checking.predictive import predictive_models
+        fitted = None if part is None else (Part.from_dict(part).cut(heights.z), spacing)
         models, held = predictive_models(model, options["predictive"],
                                          source=options.get("predictive_from", "refits"),
-                                         seed=seed)
-    part = model.data.get("part") if isinstance(model.data, dict) else None
+                                         seed=seed, fitted=fitted)
     if part is not None and model.kind == "surface":
         from roughgp.checking.held_out import Part, held_out_check
         both = held_out_check(model, heights.z, spacing, fitted_part=Part.from_dict(part),

@@ -13,9 +13,10 @@ hyperparameters as ``fit.NAME`` (lists as JSON text), ``model_file``, ``part`` (
 fitted, ``--part``); the check's ``check_outside`` (the parameters outside the simulated range,
 comma-separated), ``check_count`` (how many) and, per parameter, ``check.NAME.rank`` and
 ``check.NAME.outside`` (with ``--part``: on the fitted half; the same columns ``held_out*`` on
-the other half), ``check_simulations`` (``predictive (refits)`` or ``predictive (sandwich)``
-with ``--predictive``; empty: plug-in); ``filled``, ``filled_file``, ``simulated_file``; the
-timings ``seconds.STEP`` and ``seconds.total``. A column a file does not have is empty (null).
+the other half), ``check_simulations`` (``predictive (refits)``, ``predictive (sandwich)`` or
+``predictive (tiles)`` with ``--predictive``; empty: plug-in); ``filled``, ``filled_file``,
+``simulated_file``; the timings ``seconds.STEP`` and ``seconds.total``. A column a file does not
+have is empty (null).
 """
 
 from __future__ import annotations

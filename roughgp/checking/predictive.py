@@ -40,9 +40,10 @@ __all__ = ["MAX_MODELS", "CENTRES", "SOURCES", "bootstrap_models", "recentred",
            "predictive_refusal", "fitted_shape", "predictive_models"]
 
 MAX_MODELS = 99  #: the most bootstrap refits (each a fit)
-#: where the predictive models come from: bootstrap refits (:func:`bootstrap_models`), or
-#: parameter sets of the Whittle sandwich covariance (:mod:`roughgp.checking.sandwich_draws`)
-SOURCES = ("refits", "sandwich")
+#: where the predictive models come from: bootstrap refits (:func:`bootstrap_models`),
+#: parameter sets of the Whittle sandwich covariance (:mod:`roughgp.checking.sandwich_draws`),
+#: or a bootstrap of the fitted map's tiles (:mod:`roughgp.checking.tile_bootstrap`)
+SOURCES = ("refits", "sandwich", "tiles")
 #: where the predictive draws are centred: as refitted, on the fit, or on the bias-corrected fit
 CENTRES = ("refits", "fit", "bias-corrected")
 #: the positive scale parameters recentred (in logs) by :func:`recentred`, per equation
@@ -149,7 +150,7 @@ def bootstrap_models(model: FittedModel, n_models, *, shape=None, spacing=None, 
 
 
 def predictive_models(model: FittedModel, n_models, *, source="refits", seed=0,
-                      progress=None) -> tuple[tuple, tuple]:
+                      progress=None, fitted=None) -> tuple[tuple, tuple]:
     """``(models, held)``: the ``n_models`` models the predictive simulations draw from in turn
     (``check_model(..., models=...)``), from ``source`` (:data:`SOURCES`):
 
@@ -158,13 +159,22 @@ def predictive_models(model: FittedModel, n_models, *, source="refits", seed=0,
     - ``"sandwich"``: eq 18 parameter sets from the Whittle sandwich covariance of the model on
       its fitted grid (:func:`~roughgp.checking.sandwich_draws.sandwich_models` with the
       expected information: the model file keeps no heights), no refits; ``held``: the
-      hyperparameters the grid does not determine, kept at the fit.
+      hyperparameters the grid does not determine, kept at the fit;
+    - ``"tiles"``: :func:`~roughgp.checking.tile_bootstrap.tile_bootstrap_models` of the map
+      the model was fitted on, ``fitted = (z, spacing)``; ``held`` is empty.
 
     ``progress``: as :func:`bootstrap_models` (refits only). Raises ValueError saying why the
     model cannot be drawn so.
     """
     if source not in SOURCES:
         raise ValueError(f"source must be one of {', '.join(SOURCES)}, got {source!r}")
+    if source == "tiles":
+        if fitted is None:
+            raise ValueError("the tile bootstrap needs the map the model was fitted on "
+                             "(fitted = (z, spacing))")
+        from roughgp.checking.tile_bootstrap import tile_bootstrap_models
+        z, spacing = fitted
+        return tile_bootstrap_models(model, z, n_models, spacing=spacing, seed=seed), ()
     shape = fitted_shape(model, None)
     if shape is None:
         raise ValueError("the model file records no fitted shape (data.shape): its "

@@ -189,9 +189,12 @@ def add_parser(sub, formatter) -> None:
                    help=f"check: draw the simulations from B models that carry the fit's "
                         f"uncertainty, {bounds_text('--predictive')} (default: the plug-in "
                         f"model)")
-    c.add_argument("--predictive-from", choices=("refits", "sandwich"), default="refits",
-                   help="check: the models of --predictive: bootstrap refits, or eq 18 "
-                        "parameter sets of the Whittle sandwich covariance (as 'roughgp check')")
+    c.add_argument("--predictive-from", choices=("refits", "sandwich", "tiles"),
+                   default="refits",
+                   help="check: the models of --predictive: bootstrap refits, eq 18 "
+                        "parameter sets of the Whittle sandwich covariance, or the fitted "
+                        "part's tiles drawn with replacement (with --part) (as 'roughgp "
+                        "check')")
     c.add_argument("--plots", action="store_true",
                    help="check: also write each file's figure (files/NAME/check.png)")
     c.add_argument("--fill-method", choices=("local", "global"), default="local",
@@ -215,6 +218,9 @@ def _cores() -> int:
 def plan_of(args):
     """The :class:`roughgp.batch.records.Plan` of the options."""
     from roughgp.batch.records import Plan
+    if args.predictive and args.predictive_from == "tiles" and not args.part:
+        raise UsageError("--predictive-from tiles draws the tiles of the part each model was "
+                         "fitted on: give --part (the check is then held out)")
     operators = {"form": args.form, "degree": args.degree, "axis": args.axis}
     if args.s_filter is not None:
         operators["s"] = args.s_filter

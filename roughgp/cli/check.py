@@ -62,7 +62,10 @@ side; --part P checks any part. --predictive B draws the simulations from B refi
 bootstrap measurements of the model (the fit's uncertainty carried: plug-in simulations of
 one fitted model are too alike for another crop); with --predictive-from sandwich (eq 18
 models) from B parameter sets drawn from the Whittle likelihood's sandwich covariance on the
-fitted grid instead (no refits: about half the time of 9 refits on 256 x 256 points).
+fitted grid instead (no refits: about half the time of 9 refits on 256 x 256 points); with
+--predictive-from tiles (with --held-out) from B copies of the model given the variance and
+the heights of the fitted part's 4 x 4 tiles drawn with replacement (the crop-to-crop
+variation the fitted part shows, and the fit's).
 --tiles M N cuts the map into M x N tiles and ranks each tile's Sq, Sal, Str and Std among
 the same tile of the simulations: where on the map the model fails (--plot draws the
 tiles). How often each says "outside" on surfaces of known models: the chapter "Does the
@@ -74,6 +77,7 @@ examples:
   roughgp fit ground map.x3p --part left --out left.json
   roughgp check left.json map.x3p --held-out --predictive 9
   roughgp check left.json map.x3p --held-out --predictive 19 --predictive-from sandwich
+  roughgp check left.json map.x3p --held-out --predictive 19 --predictive-from tiles
   roughgp check left.json map.x3p --tiles 2 4 --plot tiles.png"""
 
 
@@ -100,10 +104,13 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     c.add_argument("--predictive", type=integer("--predictive"), metavar="B",
                    help=f"draw the simulations from B refits of bootstrap measurements of the "
                         f"model, {bounds_text('--predictive')} (default: the plug-in model)")
-    c.add_argument("--predictive-from", choices=("refits", "sandwich"), default="refits",
+    c.add_argument("--predictive-from", choices=("refits", "sandwich", "tiles"),
+                   default="refits",
                    help="how --predictive draws the models: 'refits' (B bootstrap refits, "
-                        "any rung --calibrate refits) or 'sandwich' (eq 18: B parameter sets "
-                        "from the Whittle sandwich covariance, no refits) (default refits)")
+                        "any rung --calibrate refits), 'sandwich' (eq 18: B parameter sets "
+                        "from the Whittle sandwich covariance, no refits) or 'tiles' (with "
+                        "--held-out; measured PSD or eq 18: the fitted part's 4 x 4 tiles "
+                        "drawn with replacement, their variance and heights) (default refits)")
     c.add_argument("--tiles", type=integer("--tiles"), nargs=2, metavar=("M", "N"),
                    help="rank each of M x N tiles' Sq, Sal, Str, Std among the same tile of "
                         "the simulations (tiles of at least 16 x 16 points)")
@@ -137,6 +144,9 @@ def _refuse_combinations(args) -> None:
     if args.predictive_from != "refits" and args.predictive is None:
         raise UsageError(f"--predictive-from {args.predictive_from} chooses how --predictive B "
                          f"draws its models: give --predictive B too")
+    if args.predictive_from == "tiles" and not args.held_out:
+        raise UsageError("--predictive-from tiles draws the tiles of the part the model was "
+                         "fitted on (fit ground --part): give --held-out")
     if args.held_out and args.part is not None:
         raise UsageError("--held-out checks the fitted part and the other half; --part checks "
                          "one part: give one of them")
@@ -164,7 +174,7 @@ def _fitted_part(model, heights, args):
     return part
 
 
-def _predictive_models(model, args, start):
+def _predictive_models(model, args, start, fitted=None):
     from roughgp.checking.predictive import fitted_shape, predictive_models, predictive_refusal
     refits = args.predictive_from == "refits"
     option = "--predictive" if refits else f"--predictive-from {args.predictive_from}"
@@ -172,7 +182,10 @@ def _predictive_models(model, args, start):
     if why:
         raise UsageError(f"--predictive: {args.model}: {why}")
     shape = fitted_shape(model, None)  # None: predictive_models says why
-    if shape is not None and refits:
+    if args.predictive_from == "tiles":
+        err(f"drawing {args.predictive} models from the fitted part's tiles, drawn with "
+            f"replacement (their variance and heights) ...")
+    elif shape is not None and refits:
         err(f"refitting {args.predictive} bootstrap measurements of {shape[0]} x {shape[1]} "
             f"points drawn from the model (the fit's uncertainty) ...")
     elif shape is not None:
@@ -183,7 +196,7 @@ def _predictive_models(model, args, start):
         err(f"  bootstrap measurement {b}/{total} refitted ({time.perf_counter() - start:.0f} s)")
     try:
         models, held = predictive_models(model, args.predictive, source=args.predictive_from,
-                                         seed=args.seed, progress=progress)
+                                         seed=args.seed, progress=progress, fitted=fitted)
     except ValueError as error:
         raise UsageError(f"{option}: {args.model}: {error}") from None
     if held:
@@ -225,12 +238,14 @@ def run(args) -> int:
     z, found = remove_spurious(args, whole, model.cutoffs.get("form", "plane"))
     z = z if part is None else part.cut(z)
     start = time.perf_counter()
-    models = None if args.predictive is None else _predictive_models(model, args, start)
+    spacing = heights.spacing if model.kind == "surface" else (heights.spacing[-1],)
+    fitted = None if fitted_part is None else (fitted_part.cut(z), spacing)
+    models = None if args.predictive is None else _predictive_models(model, args, start,
+                                                                     fitted)
     err(f"simulating {args.simulations} {model.kind}s of {' x '.join(map(str, z.shape))}"
         f" points from {args.model} ...")
-    spacing = heights.spacing if model.kind == "surface" else (heights.spacing[-1],)
     draws = ("plug-in" if models is None else "predictive" if
-             args.predictive_from == "refits" else "predictive (sandwich)")
+             args.predictive_from == "refits" else f"predictive ({args.predictive_from})")
     if args.tiles:
         code = _tiles(args, model, z, spacing, models, start, json_out, plot, spacing_note,
                       draws)

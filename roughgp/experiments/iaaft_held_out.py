@@ -9,13 +9,18 @@ Each case is a map of :data:`SHAPE` points of eq 18 with one of
 Gaussian heights (``"gaussian"``), or their exponential, scaled to a log-sd of
 :data:`LOG_SD` (``"lognormal"``: skewed heights, what the IAAFT heights are for). The
 measured-PSD model (:func:`~roughgp.surface_models.fit.fit_psd_model`, the plane removed, no
-filter) is fitted on the left half with each of :data:`MARGINALS` (the last: the IAAFT model's
-simulations drawn from bootstrap refits, the fit's uncertainty carried) and checked with 19
+filter) is fitted on the left half with each of :data:`MARGINALS` (the last two: the IAAFT
+model's simulations drawn from bootstrap refits, the fit's uncertainty carried, and from the
+tile bootstrap of the fitted half, :mod:`roughgp.checking.tile_bootstrap`) and checked with 19
 simulations (:func:`~roughgp.checking.held_out.held_out_check`) on the left half it saw and on
 the right half it did not. The map is one stationary surface, so a model that describes it
 says "outside" in about 10 % of the cases per parameter on the right half (a little more: the
 fit's own error is not carried). On the left half the model that copies the heights says it
-less often: it has seen them.
+less often: it has seen them. Two kinds more, maps whose halves differ (``"two-regions"``: two
+regions of a population, ``"gradient"``: a roughness gradient across the map, both of
+:func:`roughgp.experiments.held_out.synthetic_map`), are checked with the IAAFT heights, plug-in
+and from the tile bootstrap (:data:`MARGINALS_OF`): there the check must go on saying
+"outside" far more often than 10 %, or its wider simulations could no longer say no.
 
 Before the IAAFT sample was drawn through the draw's own normal scores
 (:mod:`roughgp.surface_models.iaaft`), on 20 maps of the ``stationary`` kind of
@@ -36,18 +41,31 @@ from roughgp.checking.held_out import held_out_check, part_of
 from roughgp.checking.model_check import SURFACE_PARAMETERS
 from roughgp.checking.predictive import predictive_models
 from roughgp.checking.ranks import share_interval, verdict_within
+from roughgp.checking.tile_bootstrap import tile_bootstrap_models
 from roughgp.common.jsonl import read_records
 from roughgp.experiments.check_calibration import CASES
 from roughgp.experiments.held_out import eq18_model
 from roughgp.surface_models.fit import fit_psd_model
 
-__all__ = ["KINDS", "MARGINALS", "SHAPE", "LOG_SD", "RECORDED", "synthetic_map",
+__all__ = ["KINDS", "DESCRIBED", "MARGINALS_OF", "MARGINALS", "SHAPE", "LOG_SD", "RECORDED",
+           "synthetic_map",
            "PREDICTIVE", "iaaft_held_out_case", "load_records", "summary"]
 
-KINDS = ("gaussian", "lognormal")
-#: the heights of the simulations: Gaussian, IAAFT, and IAAFT drawn from :data:`PREDICTIVE`
-#: bootstrap refits of the fit (:func:`~roughgp.checking.predictive.predictive_models`)
-MARGINALS = ("gaussian", "iaaft", "iaaft-predictive")
+KINDS = ("gaussian", "lognormal", "two-regions", "gradient")
+#: the kinds one stationary model describes (the check's level is judged on them); the others
+#: are maps whose halves differ (:func:`~roughgp.experiments.held_out.synthetic_map`'s
+#: ``hierarchical`` and ``gradient`` kinds: two regions of a population, a roughness gradient),
+#: where a check must say "outside" more often, checked with the IAAFT heights alone
+DESCRIBED = ("gaussian", "lognormal")
+#: the heights of the simulations: Gaussian, IAAFT, IAAFT drawn from :data:`PREDICTIVE`
+#: bootstrap refits of the fit (:func:`~roughgp.checking.predictive.predictive_models`), and
+#: IAAFT drawn from 19 tile-bootstrap models of the fitted half (one per simulation,
+#: :func:`~roughgp.checking.tile_bootstrap.tile_bootstrap_models`)
+MARGINALS = ("gaussian", "iaaft", "iaaft-predictive", "iaaft-tiles")
+#: the marginals run on each kind: all on the maps one model describes, the plug-in and the
+#: tile bootstrap on the others (does the wider check still say no?)
+MARGINALS_OF = {kind: MARGINALS if kind in DESCRIBED else
+                ("iaaft", "iaaft-tiles") for kind in KINDS}
 PREDICTIVE = 9
 SHAPE = (128, 256)   #: the map; each half 128 x 128
 LOG_SD = 0.6         #: the lognormal kind's log-sd (skewness about 2)
@@ -60,6 +78,10 @@ def synthetic_map(kind, index, *, shape=SHAPE, seed=0) -> np.ndarray:
     index)``."""
     if kind not in KINDS:
         raise ValueError(f"kind must be one of {', '.join(KINDS)}, got {kind!r}")
+    if kind not in DESCRIBED:
+        from roughgp.experiments.held_out import synthetic_map as differing_halves
+        return differing_halves("hierarchical" if kind == "two-regions" else kind, index,
+                                shape=shape, seed=seed)[0]
     rng = np.random.default_rng([seed, KINDS.index(kind), index])
     variance, lam_a, lam_b, angle, noise = CASES[index % len(CASES)]
     z = eq18_model(variance, lam_a, lam_b, angle, noise).simulate(shape, seed=rng)
@@ -68,19 +90,21 @@ def synthetic_map(kind, index, *, shape=SHAPE, seed=0) -> np.ndarray:
     return z
 
 
-def iaaft_held_out_case(kind, index, *, shape=SHAPE, seed=0) -> dict:
-    """One case (module docstring): per marginal, the parameters outside on the fitted (left)
-    and the held-out (right) half."""
+def iaaft_held_out_case(kind, index, *, shape=SHAPE, seed=0, marginals=MARGINALS) -> dict:
+    """One case (module docstring): per marginal of ``marginals``, the parameters outside on
+    the fitted (left) and the held-out (right) half."""
     start = time.perf_counter()
     z = synthetic_map(kind, index, shape=shape, seed=seed)
     left = part_of(z.shape, "left")
     checks = {}
-    for marginal in MARGINALS:
+    for marginal in marginals:
         model = fit_psd_model(left.cut(z), 1.0, marginal=marginal.split("-")[0], s=None, l=None,
                               seed=seed).model
         models = None
         if marginal == "iaaft-predictive":
             models = predictive_models(model, PREDICTIVE, source="refits", seed=index)[0]
+        elif marginal == "iaaft-tiles":
+            models = tile_bootstrap_models(model, left.cut(z), 19, seed=index)
         both = held_out_check(model, z, (1.0, 1.0), fitted_part=left, seed=1000 + index,
                               models=models)
         checks[marginal] = {"fitted": list(both.fitted.outside),
@@ -90,8 +114,18 @@ def iaaft_held_out_case(kind, index, *, shape=SHAPE, seed=0) -> dict:
 
 
 def load_records(path=RECORDED) -> list:
-    """The recorded cases (none when the file does not exist)."""
-    return read_records(path)
+    """The recorded cases (none when the file does not exist), the lines of one case (its
+    kind, index and seed: a marginal added to the run later is a line of its own) merged:
+    their checks together, their seconds summed."""
+    merged: dict = {}
+    for record in read_records(path):
+        key = (record["kind"], record["index"], record["seed"])
+        if key in merged:
+            merged[key]["checks"].update(record["checks"])
+            merged[key]["seconds"] += record["seconds"]
+        else:
+            merged[key] = {**record, "checks": dict(record["checks"])}
+    return list(merged.values())
 
 
 def summary(records) -> "pandas.DataFrame":
@@ -107,7 +141,10 @@ def summary(records) -> "pandas.DataFrame":
             continue
         for marginal in MARGINALS:
             for half in ("fitted", "held_out"):
-                outside = [set(r["checks"][marginal][half]) for r in rows]
+                outside = [set(r["checks"][marginal][half]) for r in rows
+                           if marginal in r["checks"]]
+                if not outside:
+                    continue
                 mean = [len(o) / len(SURFACE_PARAMETERS) for o in outside]
                 share, low, high = share_interval(mean)
                 sq, sq_low, sq_high = share_interval(["Sq" in o for o in outside])

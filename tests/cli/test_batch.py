@@ -316,6 +316,38 @@ def test_predictive_sandwich_checks_as_the_single_command_does(tmp_path, capsys)
     assert "eq 18 surface model" in failed["error"]
 
 
+def test_predictive_tiles_checks_as_the_single_command_does(tmp_path, capsys):
+    """``--predictive B --predictive-from tiles``: the models drawn from the fitted half's
+    tiles, the ranks of ``check --held-out --predictive-from tiles`` with the file's seed;
+    refused without ``--part``."""
+    from roughgp.experiments.held_out import synthetic_map
+    z, _, _ = synthetic_map("stationary", 5, shape=(64, 128))
+    folder = tmp_path / "in"
+    folder.mkdir()
+    np.save(folder / "map.npy", z)
+    fit = ("--model", "psd", "--marginal", "iaaft", "--l-filter", "none")
+    check = ("--simulations", "9", "--predictive", "5", "--predictive-from", "tiles")
+    code, _, err = run(capsys, "batch", folder, "--out", tmp_path / "whole", "--workers", "1",
+                       "--steps", "fit,check", *fit, *check)
+    assert code == 2 and "--predictive-from tiles" in err and "give --part" in err
+    out = tmp_path / "out"
+    code, _, err = run(capsys, "batch", folder, "--out", out, "--workers", "1", "--steps",
+                       "fit,check", "--part", "left", *fit, *check)
+    assert code == 0, err
+    (record,) = _records(out).values()
+    assert record["check"]["predictive"]["from"] == "tiles"
+    model, checked = tmp_path / "left.json", tmp_path / "held.json"
+    code, _, err = run(capsys, "fit", "ground", folder / "map.npy", "--part", "left", *fit,
+                       "--seed", record["seed"], "--out", model)
+    assert code == 0, err
+    code, _, err = run(capsys, "check", model, folder / "map.npy", "--held-out", "--seed",
+                       record["seed"], *check, "--json", checked)
+    assert code == 0, err
+    single = json.loads(checked.read_text())
+    assert ({p["name"]: p["rank"] for p in single["held_out"]["parameters"]}
+            == {name: p["rank"] for name, p in record["held_out"]["parameters"].items()})
+
+
 def test_part_is_a_half_only(tmp_path, capsys):
     code, _, err = run(capsys, "batch", tmp_path, "--out", tmp_path / "o", "--part", "0:8,0:8")
     assert code == 2 and "--part" in err and "left" in err

@@ -153,3 +153,32 @@ def test_fit_device_is_refused_where_it_does_not_apply(capsys, left_fit, tmp_pat
                         "--out", tmp_path / "never.json")
     assert code == 2 and words in err, err
     assert not (tmp_path / "never.json").exists()
+
+
+def test_predictive_from_tiles_needs_the_held_out_check_and_tiles_of_16_points(capsys, left_fit):
+    code, _, err = _run(capsys, "check", left_fit / "left.json", left_fit / "map.npy",
+                        "--predictive", 2, "--predictive-from", "tiles")
+    assert code == 2 and "--predictive-from tiles draws the tiles of the part" in err
+    assert "give --held-out" in err and "simulating" not in err
+    code, _, err = _run(capsys, "check", left_fit / "left.json", left_fit / "map.npy",
+                        "--held-out", "--predictive", 2, "--predictive-from", "tiles")
+    assert code == 2 and "4 x 4 tiles of a 32 x 32 map are shorter than 16 points" in err, err
+    assert "simulating" not in err
+
+
+def test_check_predictive_from_tiles_of_the_fitted_part(capsys, tmp_path):
+    """A measured-psd model with the measured heights, fitted on the left half of a 64 x 128
+    map: its tile-bootstrap check runs, says so, and the same seed gives the same table."""
+    z, _, _ = synthetic_map("stationary", 3, shape=(64, 128))
+    np.save(tmp_path / "map.npy", z)
+    code = _main("fit", "ground", tmp_path / "map.npy", "--part", "left", "--model", "psd",
+                 "--marginal", "iaaft", "--l-filter", "none", "--out", tmp_path / "left.json")
+    assert code == 0
+    options = (tmp_path / "left.json", tmp_path / "map.npy", "--held-out", "--predictive", 9,
+               "--predictive-from", "tiles", "--simulations", 9)
+    code, text, err = _run(capsys, "check", *options)
+    assert code == 0, err
+    assert "against 9 predictive (tiles) simulations" in text
+    assert "drawing 9 models from the fitted part's tiles" in err
+    again = _run(capsys, "check", *options)[1]
+    assert again.split(" against ", 1)[1] == text.split(" against ", 1)[1]

@@ -31,3 +31,23 @@ def test_the_summary_averages_each_case_s_share_of_the_13():
     assert table.loc[("gaussian", "held-out"), "Sq outside"] == 0.5
     assert table.loc[("gaussian", "fitted"), "outside (mean of 13)"] == 0
     assert set(table["cases"]) == {2}
+
+
+def test_a_marginal_added_later_merges_into_its_case(tmp_path):
+    """A marginal run later for the recorded cases is a line of its own; load_records merges
+    the lines of one case, and the summary leaves out a marginal where a case lacks it."""
+    import json
+    first = {"kind": "gaussian", "index": 0, "seed": 0, "seconds": 2.0,
+             "checks": {"gaussian": {"fitted": [], "held_out": ["Sq"]}}}
+    later = {"kind": "gaussian", "index": 0, "seed": 0, "seconds": 1.0,
+             "checks": {"iaaft-tiles": {"fitted": [], "held_out": []}}}
+    lines = [first, later, {**first, "index": 1}, {**later, "index": 1}, {**first, "index": 2}]
+    path = tmp_path / "r.jsonl"
+    path.write_text("\n".join(json.dumps(r) for r in lines) + "\n")
+    records = ih.load_records(path)
+    assert len(records) == 3 and records[0]["seconds"] == 3.0
+    assert set(records[0]["checks"]) == {"gaussian", "iaaft-tiles"}
+    table = ih.summary(records).set_index(["heights", "half"])
+    assert table.loc[("iaaft-tiles", "held-out"), "cases"] == 2
+    assert table.loc[("gaussian", "held-out"), "cases"] == 3
+    assert "iaaft" not in set(table.index.get_level_values(0))

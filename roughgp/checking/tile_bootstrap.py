@@ -1,0 +1,149 @@
+r"""Predictive simulations from a tile bootstrap of the fitted heights (beyond the paper; issue
+40, items 2 and 3).
+
+A model fitted on one crop of a surface describes that crop: its variance is the crop's, its
+height distribution (the IAAFT marginal, :mod:`roughgp.surface_models.iaaft`) is the crop's
+sample. Another crop of the same part is rougher or smoother, its heights otherwise skewed,
+and the simulations of the crop's model, all alike in amplitude and distribution, put it
+outside (``benchmarks/iaaft_held_out.py``; the chapter "Which model reproduces which
+measurement"). The parametric bootstrap of :mod:`roughgp.checking.predictive` refits copies
+drawn from the model itself: it carries the fit's sampling error under a stationary model,
+not the variation of the surface from region to region, and it cannot refit the measured
+heights' distribution other than from the model's own draws.
+
+The tile bootstrap carries both from the data themselves (the block bootstrap of Künsch,
+Ann. Statist. 17, 1217 (1989), and Hall 1985 for spatial data, with the tiles as blocks):
+the fitted heights (after the model's form removal; with an L-filter, the filtered heights
+for the IAAFT marginal too) are cut into :data:`TILES` tiles, and each bootstrap model is the
+fitted model with the heights of as many tiles drawn with replacement:
+
+- its variance scaled by theirs over the fitted heights' (the measured PSD's table, or eq 18's
+  variance and noise);
+- its height distribution theirs: the IAAFT quantile table of the drawn tiles, its tails
+  beyond :data:`~roughgp.surface_models.pareto_tails.TAIL_SHARE` generalized Pareto
+  (:mod:`roughgp.surface_models.pareto_tails`; a resample of the measured table could only
+  lose the deepest pit, never find a deeper one), or their skewness and kurtosis (Johnson).
+
+The spectrum's shape and the lengths stay the fit's. The spread of the bootstrap models stands
+for the spread of a crop of the part about the fitted one: on a stationary surface the
+sampling spread of a crop's variance and distribution, on a part that varies the variation
+between its regions as far as the fitted crop shows it (a crop that saw one region only
+cannot know another's). What it buys on synthetic and real maps is recorded in
+``benchmarks/iaaft_held_out.py`` and ``benchmarks/real_out_of_sample.py``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from roughgp.common.checks import check_integer
+from roughgp.surface_models.chain import marginal_of, measured_chain
+from roughgp.surface_models.model import FittedModel
+
+__all__ = ["TILES", "MIN_TILE", "EQUATIONS", "MAX_MODELS", "tile_bootstrap_refusal",
+           "tile_heights", "tile_bootstrap_models"]
+
+TILES = (4, 4)   #: the tiles the fitted heights are cut into (rows, columns)
+MIN_TILE = 16    #: the fewest points along a tile's side
+MAX_MODELS = 99  #: the most bootstrap models
+#: the equations whose variance the bootstrap scales: the hyperparameters scaled
+EQUATIONS = {"measured-psd": ("psd_um4",),
+             "eq18": ("variance_um2", "noise_variance_um2"),
+             "eq18-matern": ("variance_um2", "noise_variance_um2")}
+
+
+def tile_bootstrap_refusal(model: FittedModel) -> str | None:
+    """Why ``model`` cannot be tile-bootstrapped, or None."""
+    if model.equation not in EQUATIONS:
+        return (f"the tile bootstrap scales the variance of {', '.join(EQUATIONS)} models; "
+                f"this is a {model.equation} model")
+    if model.stage != "form-removed":
+        return (f"the tile bootstrap redraws the form-removed heights the model describes; "
+                f"this model is of stage {model.stage!r}")
+    return None
+
+
+def _edges(n, count):
+    return np.linspace(0, n, count + 1).round().astype(int)
+
+
+def tile_heights(z, spacing, model: FittedModel, tiles=TILES) -> tuple[list, list]:
+    """``(heights, filtered)``: the tiles (:data:`TILES` by default) of the fitted map ``z``
+    (um, NaN where unmeasured) after the model's operators (``model.cutoffs``): their
+    form-removed heights, and the heights the model's IAAFT marginal was taken from (the
+    filtered ones with an L-filter, else the same), each a list of arrays in row order."""
+    tiles = tuple(int(n) for n in tiles)
+    arr = np.asarray(z, dtype=np.float64)
+    if arr.ndim != 2 or len(tiles) != 2:
+        raise ValueError(f"z must be a surface and tiles two counts, got {arr.shape} and "
+                         f"{tiles}")
+    if min(tiles) < 1 or arr.shape[0] < tiles[0] * MIN_TILE or arr.shape[1] < tiles[1] * \
+            MIN_TILE:
+        raise ValueError(f"tiles: {tiles[0]} x {tiles[1]} tiles of a {arr.shape[0]} x "
+                         f"{arr.shape[1]} map are shorter than {MIN_TILE} points a side")
+    c = model.cutoffs
+    texture, _, heights = measured_chain(arr, model.spacing if spacing is None else spacing,
+                                         c.get("form", "plane"), c.get("s_um"), c.get("l_um"),
+                                         c.get("degree", 2), c.get("axis", "auto"),
+                                         "form-removed")
+    banded = isinstance(model.marginal, dict) and "above_l_um" in model.marginal
+    filtered = texture.sl if banded else heights
+    ey, ex = _edges(arr.shape[0], tiles[0]), _edges(arr.shape[1], tiles[1])
+    cut = [(slice(ey[i], ey[i + 1]), slice(ex[j], ex[j + 1]))
+           for i in range(tiles[0]) for j in range(tiles[1])]
+    return [heights[s] for s in cut], [filtered[s] for s in cut]
+
+
+def _marginal(model, heights, filtered):
+    method = model.marginal_method
+    if method == "gaussian":
+        return None
+    if method == "johnson":
+        return marginal_of(heights, "johnson")
+    from roughgp.surface_models.iaaft import N_QUANTILES
+    from roughgp.surface_models.pareto_tails import pareto_tails_table
+    quantiles, tail, _ = pareto_tails_table(filtered, len(model.marginal.get("quantiles_um",
+                                                                              ())) or N_QUANTILES)
+    return {**model.marginal, "quantiles_um": quantiles, "tail_probability": tail}
+
+
+def tile_bootstrap_models(model: FittedModel, z, n_models, *, spacing=None, tiles=TILES,
+                          seed=0) -> tuple:
+    """``n_models`` bootstrap models of ``model`` from the tiles of the map ``z`` it was fitted
+    on (module docstring).
+
+    Args:
+        model: a surface model of :data:`EQUATIONS`, stage ``"form-removed"``
+            (:func:`tile_bootstrap_refusal`).
+        z: the fitted map (um, NaN where unmeasured), as given to the fit.
+        n_models: B, an integer in [1, :data:`MAX_MODELS`].
+        spacing: ``(dy, dx)`` of ``z`` (default: the model's).
+        tiles: rows and columns of tiles, each at least :data:`MIN_TILE` points a side.
+        seed: an integer >= 0; the same seed gives the same models.
+
+    Returns:
+        a tuple of B FittedModels.
+    """
+    check_integer("n_models", n_models, 1, MAX_MODELS)
+    check_integer("seed", seed, 0, None)
+    why = tile_bootstrap_refusal(model)
+    if why:
+        raise ValueError(why)
+    heights, filtered = tile_heights(z, spacing, model, tiles)
+    pooled = np.concatenate([h.ravel() for h in heights])
+    variance = float(np.nanvar(pooled))
+    rng = np.random.default_rng([int(seed), 5])
+    out = []
+    for _ in range(int(n_models)):
+        pick = rng.integers(0, len(heights), len(heights))
+        h = np.concatenate([heights[k].ravel() for k in pick])
+        f = np.concatenate([filtered[k].ravel() for k in pick])
+        ratio = float(np.nanvar(h)) / variance
+        hp = dict(model.hyperparameters)
+        for name in EQUATIONS[model.equation]:
+            hp[name] = (np.asarray(hp[name], dtype=np.float64) * ratio).tolist()
+        out.append(dataclasses.replace(model, hyperparameters=hp,
+                                       marginal=_marginal(model, h, f)))
+    return tuple(out)
