@@ -6,8 +6,8 @@ thousandth of a 128 x 128 crop is one or two pits, so the table's tail is lumpy,
 crop's own minimum, and a simulation's extremes (the draw's lowest normal score through the
 table) land near the crop's own Sv and Sp. Another crop of the same surface has its own
 deepest pit, and its Sv, Sz and Sp fall outside the simulations far more often than the
-check's level (``benchmarks/iaaft_held_out.py``: Sv outside on the other half in 8 of 10
-Gaussian maps).
+check's level (``benchmarks/iaaft_held_out.py``: Sv outside on the other half of 11 of the
+15 Gaussian maps; with the tile bootstrap below, 4).
 
 Here the table's tails beyond :data:`TAIL_SHARE` of the heights on either side are the
 generalized Pareto distribution (GPD) of the exceedances over that quantile, the limit law of
@@ -32,8 +32,9 @@ tail: on 200 000 normal heights the table is within 3 % of the normal quantile u
 5 to 10 % short at 4.5 sd (``tests/surface_models/test_pareto_tails.py``), beyond what a crop's
 simulations reach.
 
-The tails alone change little (on the synthetic maps above, 25 % of the parameters outside on
-the other half against 28 %): a crop's exceedances are too few to pin the tail down. They
+The tails alone change little (in a run on 10 of those maps, not recorded: 25 % of the
+parameters outside on the other half against 28 %): a crop's exceedances are too few to pin
+the tail down. They
 matter for the tile bootstrap (:mod:`roughgp.checking.tile_bootstrap`), whose resampled tables
 could otherwise only shrink the measured extremes (a resample that leaves out the deepest pit
 has a shallower minimum, none has a deeper one).
