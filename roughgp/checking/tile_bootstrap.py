@@ -38,8 +38,8 @@ import dataclasses
 
 import numpy as np
 
-from roughgp.common.checks import check_integer
-from roughgp.surface_models.chain import marginal_of, measured_chain
+from roughgp.common.checks import check_integer, check_varies
+from roughgp.surface_models.chain import apply_operators, form_removed, marginal_of
 from roughgp.surface_models.model import FittedModel
 
 __all__ = ["TILES", "MIN_TILE", "EQUATIONS", "MAX_MODELS", "tile_bootstrap_refusal",
@@ -83,13 +83,11 @@ def tile_heights(z, spacing, model: FittedModel, tiles=TILES) -> tuple[list, lis
             MIN_TILE:
         raise ValueError(f"tiles: {tiles[0]} x {tiles[1]} tiles of a {arr.shape[0]} x "
                          f"{arr.shape[1]} map are shorter than {MIN_TILE} points a side")
-    c = model.cutoffs
-    texture, _, heights = measured_chain(arr, model.spacing if spacing is None else spacing,
-                                         c.get("form", "plane"), c.get("s_um"), c.get("l_um"),
-                                         c.get("degree", 2), c.get("axis", "auto"),
-                                         "form-removed")
+    spacing = model.spacing if spacing is None else spacing
+    heights = form_removed(arr, spacing, model.cutoffs).sl
+    check_varies("the heights after the F-operator", heights, arr)
     banded = isinstance(model.marginal, dict) and "above_l_um" in model.marginal
-    filtered = texture.sl if banded else heights
+    filtered = apply_operators(arr, spacing, model.cutoffs).sl if banded else heights
     ey, ex = _edges(arr.shape[0], tiles[0]), _edges(arr.shape[1], tiles[1])
     cut = [(slice(ey[i], ey[i + 1]), slice(ex[j], ex[j + 1]))
            for i in range(tiles[0]) for j in range(tiles[1])]
@@ -102,10 +100,8 @@ def _marginal(model, heights, filtered):
         return None
     if method == "johnson":
         return marginal_of(heights, "johnson")
-    from roughgp.surface_models.iaaft import N_QUANTILES
     from roughgp.surface_models.pareto_tails import pareto_tails_table
-    quantiles, tail, _ = pareto_tails_table(filtered, len(model.marginal.get("quantiles_um",
-                                                                              ())) or N_QUANTILES)
+    quantiles, tail, _ = pareto_tails_table(filtered, len(model.marginal["quantiles_um"]))
     return {**model.marginal, "quantiles_um": quantiles, "tail_probability": tail}
 
 
