@@ -128,7 +128,8 @@ def fit(surface, spacing=None, *, model=None, form="plane", s=None, l=None, degr
     return fit_rung("eq18" if model is None else model, z, spacing, **chain, **options)[0]
 
 
-def simulate(model, shape, *, seed=None, spacing=None, n_samples=None, chain=False):
+def simulate(model, shape, *, seed=None, spacing=None, n_samples=None, chain=False,
+             predictive=None, fitted=None):
     """Draw new surfaces (or profiles) from a model.
 
     Args:
@@ -145,11 +146,17 @@ def simulate(model, shape, *, seed=None, spacing=None, n_samples=None, chain=Fal
             and L-operators, :func:`roughgp.surface_models.chain.rest_of_chain`), as
             ``roughgp simulate --from`` does by default: heights like the measurement's
             texture heights (one draw only).
+        predictive: None (the plug-in draws, all from ``model``) or how each draw's model is
+            drawn first, the fit's uncertainty carried (a fitted model only):
+            ``"refits"``, ``"sandwich"`` or ``"tiles"``
+            (:func:`roughgp.checking.predictive.predictive_draws`).
+        fitted: with ``predictive="tiles"``: ``(z, spacing)`` of the map (or part) the model
+            was fitted on.
     """
     if isinstance(model, str) and model in PRESETS:
-        if n_samples is not None or chain:
-            raise ValueError(f"the preset {model!r} draws one surface: n_samples and chain are "
-                             f"for a fitted model")
+        if n_samples is not None or chain or predictive is not None:
+            raise ValueError(f"the preset {model!r} draws one surface: n_samples, chain and "
+                             f"predictive are for a fitted model")
         import dataclasses
 
         from roughgp.models import surfaces
@@ -159,7 +166,15 @@ def simulate(model, shape, *, seed=None, spacing=None, n_samples=None, chain=Fal
                                    spacing=spacing, seed=seed)
         return surfaces.honed(shape, surfaces.FIGURE_3, spacing=spacing, seed=seed)
     model = _model(model)
-    z = model.simulate(shape, seed=seed, spacing=spacing, n_samples=n_samples)
+    if predictive is None:
+        if fitted is not None:
+            raise ValueError("fitted is the map the tile bootstrap draws from: give it with "
+                             "predictive='tiles'")
+        z = model.simulate(shape, seed=seed, spacing=spacing, n_samples=n_samples)
+    else:
+        from roughgp.checking.predictive import predictive_draws
+        z = predictive_draws(model, shape, source=predictive, seed=seed, spacing=spacing,
+                             n_samples=n_samples, fitted=fitted)[0]
     if not chain:
         return z
     if n_samples is not None:

@@ -37,7 +37,7 @@ from roughgp.checking.calibrated import refit_like, refusal
 from roughgp.surface_models.model import FittedModel
 
 __all__ = ["MAX_MODELS", "CENTRES", "SOURCES", "bootstrap_models", "recentred",
-           "predictive_refusal", "fitted_shape", "predictive_models"]
+           "predictive_refusal", "fitted_shape", "predictive_models", "predictive_draws"]
 
 MAX_MODELS = 99  #: the most bootstrap refits (each a fit)
 #: where the predictive models come from: bootstrap refits (:func:`bootstrap_models`),
@@ -186,3 +186,33 @@ def predictive_models(model: FittedModel, n_models, *, source="refits", seed=0,
     from roughgp.checking.sandwich_draws import sandwich_models
     drawn = sandwich_models(model, None, np.ones(shape, dtype=bool), n_models, seed=seed)
     return drawn.models, drawn.held
+
+
+def predictive_draws(model: FittedModel, shape, *, source="refits", seed=None, spacing=None,
+                     n_samples=None, fitted=None, progress=None) -> tuple:
+    """``(z, models, held)``: new surfaces drawn from the predictive distribution of ``model``
+    (module docstring), as ``roughgp simulate --from MODEL --predictive-from SOURCE`` does:
+    each draw's model first, from ``source`` (:func:`predictive_models`; ``fitted = (z,
+    spacing)`` of the fitted map for ``"tiles"``), then the surface from it. So a set of draws
+    spreads as the surfaces of the part would, the fit's uncertainty carried, where plug-in
+    draws (``model.simulate``) spread as one crop's.
+
+    Args:
+        shape, spacing: as :meth:`~roughgp.surface_models.model.FittedModel.simulate`.
+        seed: an integer >= 0 (the same seed gives the same models and draws), None (fresh)
+            or a numpy Generator; the models are drawn from a stream of their own.
+        n_samples: None (one draw, ``z`` of ``shape``) or the number of draws (``z`` of
+            ``(n_samples, *shape)``, each from its own model), at most :data:`MAX_MODELS`.
+
+    ``models``: the models drawn from (one per draw); ``held``: as :func:`predictive_models`.
+    """
+    from roughgp.common.checks import as_generator, check_integer
+    count = 1 if n_samples is None else n_samples
+    check_integer("n_samples", count, 1, MAX_MODELS)
+    rng = as_generator(seed)
+    parameter_seed = int(rng.integers(0, 2 ** 32))
+    models, held = predictive_models(model, count, source=source, seed=parameter_seed,
+                                     progress=progress, fitted=fitted)
+    draws = [m.simulate(shape, seed=rng, spacing=spacing) for m in models]
+    z = draws[0] if n_samples is None else np.stack(draws)
+    return z, tuple(models), tuple(held)

@@ -11,7 +11,6 @@ import argparse
 import dataclasses
 import math
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -50,10 +49,18 @@ the size of the map (or profile) it was fitted on unless --shape is given (a pro
 (the model describes the heights after the F-operator; the file's S- and L-filters follow,
 as 'roughgp check' does), so the file holds heights like the measurement's texture heights;
 --model-stage writes the draw before them (for 'roughgp texture' to filter).
+With --predictive-from SOURCE the draw's model is drawn first, the fit's uncertainty
+carried: draws of several seeds then spread as new surfaces of the part would, not as
+copies of the fitted crop ('refits': one bootstrap refit; 'sandwich': one parameter set of
+eq 18's sandwich covariance; 'tiles': the model given the variance and heights of the fitted
+map's 4 x 4 tiles drawn with replacement, from --fitted FILE, the measurement it was fitted
+on). The chapter "Which model reproduces which measurement" says what each carries.
 
 examples:
   roughgp simulate ground --shape 2000 2000 --seed 1 --out figure2.x3p     (figure 2)
   roughgp simulate --from land-model.json --shape 256 918 --seed 1 --out new-land.x3p
+  roughgp simulate --from left.json --predictive-from tiles --fitted map.x3p --seed 2 \
+      --out new-patch.x3p
   roughgp simulate honed --shape 512 512 --seed 1 --out figure3.npy        (figure 3)
   roughgp simulate turned --profile 8192 --seed 1 --out turned.csv"""
 
@@ -116,6 +123,8 @@ def add_parser(sub, formatter) -> None:
     p.add_argument("--model-stage", action="store_true",
                    help="with --from: write the draw at the model's stage, before the rest of "
                         "the operator chain (the S- and L-filters)")
+    from roughgp.cli.simulate_model import add_predictive_options
+    add_predictive_options(p)
     add_force_option(p)
     p.set_defaults(func=run, kind=None)
     kinds = p.add_subparsers(dest="kind", metavar="KIND", required=False,
@@ -310,59 +319,6 @@ def _report_sampler(steps, shape, spacing, method, device) -> None:
 
 
 
-def _run_model(args) -> int:
-    """``roughgp simulate --from MODEL.json``: draw from a fitted model
-    (:func:`roughgp.simulate`)."""
-    from roughgp.api import simulate
-    from roughgp.cli.options import fitted_size, load_model
-    if args.out is None:
-        raise UsageError("--out FILE is required (the simulated surface: "
-                         + ", ".join(WRITE_FORMATS) + ")")
-    out, = check_outputs(("--out", args.out, "heights"), inputs=(("--from", args.model),),
-                         force=args.force)
-    model = load_model(args.model, "--from")
-    if args.shape is None:
-        args.shape = fitted_size(model, MAX_SIMULATE_POINTS)
-        if args.shape is None and model.kind == "profile":
-            raise UsageError(f"the size is missing: --from {args.model} is a profile model "
-                             f"that does not record its profile's length: give --shape 1 N "
-                             f"(a profile of N points)")
-        if args.shape is not None:
-            err(f"--shape not given: {' x '.join(map(str, args.shape))} points, the size of "
-                f"the {model.kind} the model was fitted on")
-    shape = _check_shape(args)
-    if model.kind == "profile":
-        if shape[0] != 1:
-            raise UsageError(f"--from {args.model} is a profile model: give --shape 1 N")
-        shape = (shape[1],)
-    elif min(shape) < 2:
-        raise UsageError(f"--from {args.model} is a surface model: give --shape NY NX with "
-                         f"NY, NX >= 2")
-    spacing = model.spacing if args.spacing is None else (args.spacing,) * len(model.spacing)
-    seed = seed_or_fresh(args.seed)
-    err(f"drawing {' x '.join(map(str, shape))} points from {args.model}: {model.describe()}")
-    from roughgp.cli.pace import announce_long_draw
-    announce_long_draw(lambda pilot: simulate(model, pilot, seed=seed, spacing=spacing), shape)
-    start = time.perf_counter()
-    z = simulate(model, shape, seed=seed, spacing=spacing)
-    _check_drawn(z)
-    if not args.model_stage:
-        from roughgp.surface_models.chain import rest_of_chain
-        chain = rest_of_chain(model, z, spacing)
-        z = chain.sl
-        err(f"through the rest of the chain ({model.stage} model): "
-            f"{'; '.join(chain.operators)} (--model-stage: the draw before it)")
-    err(f"drawn in {time.perf_counter() - start:.2f} s; {'Rq' if z.ndim == 1 else 'Sq'} = "
-        f"{np.std(z):.4g} um")
-    if len(spacing) == 2 and spacing[0] != spacing[1] and out.suffix.lower() == ".csv":
-        raise UsageError("the model's spacing differs along y and x: a .csv stores one "
-                         "spacing; write .x3p or .npy")
-    comment = f"roughgp simulate --from {Path(args.model).name} --seed {seed}: {model.describe()}"
-    write_heights(out, z, spacing[-1] if len(set(spacing)) == 1 else tuple(spacing), comment)
-    err(f"wrote {out} ({model.kind} of shape {z.shape}, heights in um)")
-    return 0
-
-
 def _check_option_scales(args) -> None:
     """The lengths and variances given: finite, in the library's range of scales."""
     options = [(name, getattr(args, attr, None), zero) for name, attr, zero in (
@@ -425,12 +381,16 @@ def run(args) -> int:
         if args.model is None:
             raise UsageError("give a KIND (ground, honed, turned) or --from MODEL.json "
                              "(roughgp simulate --help)")
-        return _run_model(args)
+        from roughgp.cli.simulate_model import run_model
+        return run_model(args, _check_shape, _check_drawn, MAX_SIMULATE_POINTS)
     if args.model is not None:
         raise UsageError(f"--from draws from a model file: give it without the KIND "
                          f"{args.kind!r}")
-    if args.model_stage:
-        raise UsageError("--model-stage is for a draw from a model file (--from MODEL.json)")
+    for option, given in (("--model-stage", args.model_stage),
+                          ("--predictive-from", args.predictive_from),
+                          ("--fitted", args.fitted)):
+        if given:
+            raise UsageError(f"{option} is for a draw from a model file (--from MODEL.json)")
     shape = _check_shape(args)
     out, = check_outputs(("--out", args.out, "heights"), force=args.force)
     _check_option_scales(args)
