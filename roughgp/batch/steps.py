@@ -38,7 +38,7 @@ from pathlib import Path
 from roughgp.batch.records import RECORD_FORMAT, Plan, file_seed
 from roughgp.common.version import VERSION
 
-__all__ = ["run_file", "operators_of", "ARTEFACTS"]
+__all__ = ["run_file", "operators_of", "check_cutoffs", "ARTEFACTS"]
 
 #: the artefacts a file's steps write into its folder, by step
 ARTEFACTS = {"fit": "model.json", "fill": "filled.x3p", "simulate": "simulated.x3p",
@@ -59,8 +59,10 @@ def operators_of(options: dict, *, s_default="auto", l_default="auto") -> dict:
             "degree": options.get("degree", 2), "axis": options.get("axis", "auto")}
 
 
-def _check_cutoffs(operators, shape, spacing) -> None:
-    """The filters' nesting indices at most the field's longer side (as the commands)."""
+def check_cutoffs(operators, shape, spacing) -> None:
+    """The S- and L-filter nesting indices in ``operators`` at most the field's longer side (a
+    longer Gaussian filter averages the whole field, and its kernel outgrows it); a ValueError
+    naming the option and the field's length otherwise (the commands and the batch alike)."""
     extent = max(n * d for n, d in zip(shape, spacing))
     for option, key in (("--s-filter", "s"), ("--l-filter", "l")):
         value = operators.get(key)
@@ -162,7 +164,7 @@ def _texture(heights, options):
     unfiltered = options.get("unfiltered", False)
     operators = operators_of(options)
     if not unfiltered:
-        _check_cutoffs(operators, heights.z.shape, heights.spacing)
+        check_cutoffs(operators, heights.z.shape, heights.spacing)
     report = texture(heights.z, heights.spacing, **operators, filtered=not unfiltered,
                      l_kind=options.get("l_kind", "gaussian"))
     return {"standard": report.standard, "operators": list(report.operators),
@@ -200,7 +202,7 @@ def _fit(path, heights, options, seed, folder):
     from roughgp.surface_models.fit import fit_surface_model
     from roughgp.surface_models.ladder import fit_rung
     operators = operators_of(options, s_default="none", l_default="auto")
-    _check_cutoffs(operators, heights.z.shape, heights.spacing)
+    check_cutoffs(operators, heights.z.shape, heights.spacing)
     z, block, n_blocks = heights.z, options.get("block", 24), options.get("blocks", 12)
     side = min(z.shape)
     if side < 4 or block > side:
@@ -263,7 +265,7 @@ def _fit_profile(heights, options, seed, data, folder):
     from roughgp.io.measurement import mean_profile
     from roughgp.surface_models.fit import fit_profile_model
     operators = operators_of(options, s_default="none", l_default="none")
-    _check_cutoffs(operators, heights.z.shape, heights.spacing)
+    check_cutoffs(operators, heights.z.shape, heights.spacing)
     z, spacing, how = mean_profile(heights, options.get("profile_axis", "x"))
     if np.isnan(z).any():
         raise ValueError(f"{how}: unmeasured points; the eq 21 fit needs a complete profile")

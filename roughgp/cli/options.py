@@ -141,15 +141,13 @@ class Given(argparse.Action):
 
 
 def check_cutoffs(operators: dict, shape, spacing) -> None:
-    """The S- and L-filter nesting indices against the field that was read: at most its longer
-    side (a longer Gaussian filter averages the whole field, and its kernel outgrows it);
-    a :class:`UsageError` naming the option and the field's length otherwise."""
-    extent = max(n * d for n, d in zip(shape, spacing))
-    for option, key in (("--s-filter", "s"), ("--l-filter", "l")):
-        value = operators.get(key)
-        if isinstance(value, (int, float)) and value > extent:
-            raise UsageError(f"{option} {value:g} um exceeds the field ({extent:.4g} um along "
-                             f"its longer side): give at most {extent:.4g} um, or auto")
+    """:func:`roughgp.batch.steps.check_cutoffs` (the filters' nesting indices against the field
+    that was read), its refusal a :class:`UsageError`."""
+    from roughgp.batch.steps import check_cutoffs as within_field
+    try:
+        within_field(operators, shape, spacing)
+    except ValueError as error:
+        raise UsageError(str(error)) from None
 
 
 def load_model(path, option="MODEL"):
