@@ -11,6 +11,7 @@ cases, a line of its own); ``--report`` writes the Markdown table beside it and 
 cases run on the Dask engine of ``roughgp batch`` (one BLAS thread per worker). Not a test:
 
     python benchmarks/iaaft_held_out.py --cases 40 --workers 2
+    python benchmarks/iaaft_held_out.py --cases 45 --kinds gaussian --marginals iaaft-tiles
     python benchmarks/iaaft_held_out.py --report
 """
 
@@ -23,7 +24,7 @@ from pathlib import Path
 
 from roughgp.batch.engine import add_cluster_options, appending_records, on_one_thread, run_cases
 from roughgp.common.atomic import atomic_output
-from roughgp.experiments.iaaft_held_out import (KINDS, MARGINALS_OF, RECORDED,
+from roughgp.experiments.iaaft_held_out import (KINDS, MARGINALS, MARGINALS_OF, RECORDED,
                                                 iaaft_held_out_case, load_records, summary)
 
 
@@ -32,6 +33,10 @@ def main(argv=None) -> int:
     parser.add_argument("--cases", type=int, default=40, help="cases of each kind (default 40)")
     parser.add_argument("--seed", type=int, default=0)
     add_cluster_options(parser)
+    parser.add_argument("--kinds", nargs="+", choices=KINDS, default=KINDS,
+                        help="the kinds of map to run (default all)")
+    parser.add_argument("--marginals", nargs="+", choices=MARGINALS, default=MARGINALS,
+                        help="the marginals to run, where the kind runs them (default all)")
     parser.add_argument("--report", action="store_true", help="write and print the table")
     args = parser.parse_args(argv)
     if args.report:
@@ -47,9 +52,9 @@ def main(argv=None) -> int:
         print(text)
         return 0
     done = {(r["kind"], r["index"], r["seed"]): set(r["checks"]) for r in load_records()}
-    todo = [(kind, i, tuple(m for m in MARGINALS_OF[kind]
-                            if m not in done.get((kind, i, args.seed), ())))
-            for i in range(args.cases) for kind in KINDS]
+    todo = [(kind, i, tuple(m for m in MARGINALS_OF[kind] if m in args.marginals
+                            and m not in done.get((kind, i, args.seed), ())))
+            for i in range(args.cases) for kind in args.kinds]
     todo = [t for t in todo if t[2]]
     print(f"{len(todo)} case(s) to run, {len(done)} recorded in {RECORDED}", flush=True)
     cases = [(f"{kind} {i} ({', '.join(marginals)})",

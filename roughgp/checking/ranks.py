@@ -44,7 +44,7 @@ import numpy as np
 from scipy import special, stats
 
 __all__ = ["rank_counts", "outside_probability", "uniform_rank_sd", "pit_values", "pit_pvalue",
-           "share_interval", "verdict_within", "chance_within"]
+           "share_interval", "verdict_within", "chance_within", "pass_chance"]
 
 
 def rank_counts(measured, simulated):
@@ -171,3 +171,16 @@ def chance_within(n_cases, *, n_parameters=13, n_draws=99, n_simulations=19, tol
         share = outside_probability(n_draws - below, below, n_draws, n_simulations).mean(axis=1)
         within[t] = np.abs(share - target) <= tolerance
     return float(within.mean()), float(within.all(axis=1).mean())
+
+
+def pass_chance(n_parameters=13, most=2, chance=None, n_simulations=19) -> float:
+    """The chance that a check leaves at most ``most`` of ``n_parameters`` outside when each is
+    outside with probability ``chance`` (default the level of ``n_simulations`` draws,
+    2 / (n + 1)), the parameters independent: the binomial yardstick for "the model reproduces
+    the map" (at most 2 of 13 outside). Correlated parameters (Sq, Sa, Sk) pass somewhat more
+    often, a check above its level less."""
+    import scipy.stats
+    p = 2.0 / (n_simulations + 1) if chance is None else float(chance)
+    if not 0.0 <= p <= 1.0:
+        raise ValueError(f"chance must be in [0, 1], got {chance!r}")
+    return float(scipy.stats.binom.cdf(int(most), int(n_parameters), p))

@@ -123,3 +123,14 @@ def test_chance_within_says_how_many_cases_the_target_needs():
 def test_chance_within_refuses_bad_input(kwargs, message):
     with pytest.raises(ValueError, match=message):
         chance_within(**kwargs)
+
+
+def test_pass_chance_is_the_binomial_yardstick():
+    """At the level of 19 draws (10 % each) a model passes (at most 2 of 13 outside) on 87 % of
+    maps; a check above its level passes less often; a chance outside [0, 1] is refused."""
+    from roughgp.checking.ranks import pass_chance
+    assert pass_chance() == pytest.approx(0.8661, abs=1e-4)
+    assert pass_chance(chance=0.16) < pass_chance() < pass_chance(chance=0.05)
+    assert pass_chance(n_parameters=13, most=13, chance=0.5) == pytest.approx(1.0)
+    with pytest.raises(ValueError, match="chance must be in"):
+        pass_chance(chance=1.5)

@@ -31,6 +31,9 @@ def test_the_summary_averages_each_case_s_share_of_the_13():
     assert table.loc[("gaussian", "held-out"), "Sq outside"] == 0.5
     assert table.loc[("gaussian", "fitted"), "outside (mean of 13)"] == 0
     assert set(table["cases"]) == {2}
+    # at most 2 of 13 outside: case 1 only for IAAFT (3 then 1 outside), both for Gaussian
+    assert table.loc[("iaaft", "held-out"), "≤ 2 outside"] == 0.5
+    assert table.loc[("gaussian", "held-out"), "≤ 2 outside"] == 1.0
 
 
 def test_a_marginal_added_later_merges_into_its_case(tmp_path):
