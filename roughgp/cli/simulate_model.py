@@ -101,13 +101,13 @@ def _refuse_predictive(args) -> None:
                          f"{args.predictive_from} draws from the model file alone")
 
 
-def _draw(model, shape, spacing, seed, args):
-    """The drawn surface (before the rest of the chain), plug-in or predictive."""
+def _draw(model, shape, spacing, seed, args, fitted):
+    """The drawn surface (before the rest of the chain), plug-in or predictive (``fitted``:
+    :func:`fitted_map` for the tiles, else None)."""
     from roughgp.api import simulate
     if args.predictive_from is None:
         return simulate(model, shape, seed=seed, spacing=spacing)
     from roughgp.checking.predictive import predictive_draws
-    fitted = fitted_map(model, args.fitted) if args.predictive_from == "tiles" else None
     err(f"the model of the surface drawn first (--predictive-from {args.predictive_from}): "
         f"{_ABOUT[args.predictive_from]} ...")
     try:
@@ -157,12 +157,13 @@ def run_model(args, check_shape, check_drawn, max_points) -> int:
         raise UsageError(f"--from {args.model} is a surface model: give --shape NY NX with "
                          f"NY, NX >= 2")
     spacing = model.spacing if args.spacing is None else (args.spacing,) * len(model.spacing)
+    fitted = fitted_map(model, args.fitted) if args.predictive_from == "tiles" else None
     seed = seed_or_fresh(args.seed)
     err(f"drawing {' x '.join(map(str, shape))} points from {args.model}: {model.describe()}")
     from roughgp.cli.pace import announce_long_draw
     announce_long_draw(lambda pilot: simulate(model, pilot, seed=seed, spacing=spacing), shape)
     start = time.perf_counter()
-    z = _draw(model, shape, spacing, seed, args)
+    z = _draw(model, shape, spacing, seed, args, fitted)
     check_drawn(z)
     if not args.model_stage:
         from roughgp.surface_models.chain import rest_of_chain

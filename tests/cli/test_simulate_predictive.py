@@ -125,3 +125,12 @@ def test_the_library_refuses_a_fitted_map_without_predictive_and_presets(fitted)
     with pytest.raises(ValueError, match="n_samples must be"):
         roughgp.simulate(fitted / "psd.json", (8, 8), seed=0, predictive="tiles",
                          n_samples=0, fitted=(np.zeros((64, 64)), 1.0))
+
+
+def test_the_fitted_file_is_checked_before_anything_is_drawn(capsys, fitted):
+    np.save(fitted / "other2.npy", np.load(fitted / "map.npy") * 2.0)
+    code, _, err = run(capsys, "simulate", "--from", fitted / "psd.json", "--seed", 1,
+                       "--predictive-from", "tiles", "--fitted", fitted / "other2.npy",
+                       "--out", fitted / "early.npy")
+    assert code == 2 and "is not the file the model was fitted on" in err
+    assert "drawing" not in err and not (fitted / "early.npy").exists()
