@@ -16,7 +16,9 @@ from roughgp.io.writers import WRITE_FORMATS, write_heights
 
 __all__ = ["PREDICTIVE_SOURCES", "add_predictive_options", "fitted_map", "run_model"]
 
-#: how ``--predictive-from`` draws the model of the surface (roughgp.checking.predictive)
+#: how ``--predictive-from`` draws the model of the surface: the sources of
+#: :data:`roughgp.checking.predictive.SOURCES`, written out so that the parser does not import
+#: the checking package at start-up (a test holds them equal)
 PREDICTIVE_SOURCES = ("refits", "sandwich", "tiles")
 
 _ABOUT = {"refits": "one bootstrap refit of the model (a measurement of the fitted size drawn "
@@ -122,7 +124,9 @@ def _draw(model, shape, spacing, seed, args, fitted):
     return z
 
 
-def _size(args, model, max_points) -> tuple:
+def _size(args, model, max_points) -> None:
+    """``--shape`` not given: set to the size the model was fitted on, where its file records
+    one (a profile model that records none is a usage error)."""
     from roughgp.cli.options import fitted_size
     if args.shape is None:
         args.shape = fitted_size(model, max_points)
@@ -157,6 +161,9 @@ def run_model(args, check_shape, check_drawn, max_points) -> int:
         raise UsageError(f"--from {args.model} is a surface model: give --shape NY NX with "
                          f"NY, NX >= 2")
     spacing = model.spacing if args.spacing is None else (args.spacing,) * len(model.spacing)
+    if len(spacing) == 2 and spacing[0] != spacing[1] and out.suffix.lower() == ".csv":
+        raise UsageError("the model's spacing differs along y and x: a .csv stores one "
+                         "spacing; write .x3p or .npy")
     fitted = fitted_map(model, args.fitted) if args.predictive_from == "tiles" else None
     seed = seed_or_fresh(args.seed)
     err(f"drawing {' x '.join(map(str, shape))} points from {args.model}: {model.describe()}")
@@ -173,9 +180,6 @@ def run_model(args, check_shape, check_drawn, max_points) -> int:
             f"{'; '.join(chain.operators)} (--model-stage: the draw before it)")
     err(f"drawn in {time.perf_counter() - start:.2f} s; {'Rq' if z.ndim == 1 else 'Sq'} = "
         f"{np.std(z):.4g} um")
-    if len(spacing) == 2 and spacing[0] != spacing[1] and out.suffix.lower() == ".csv":
-        raise UsageError("the model's spacing differs along y and x: a .csv stores one "
-                         "spacing; write .x3p or .npy")
     how = "" if args.predictive_from is None else f" --predictive-from {args.predictive_from}"
     comment = (f"roughgp simulate --from {Path(args.model).name}{how} --seed {seed}: "
                f"{model.describe()}")

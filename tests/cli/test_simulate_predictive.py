@@ -134,3 +134,20 @@ def test_the_fitted_file_is_checked_before_anything_is_drawn(capsys, fitted):
                        "--out", fitted / "early.npy")
     assert code == 2 and "is not the file the model was fitted on" in err
     assert "drawing" not in err and not (fitted / "early.npy").exists()
+
+
+def test_the_parser_s_sources_are_the_library_s():
+    from roughgp.checking.predictive import SOURCES
+    from roughgp.cli.simulate_model import PREDICTIVE_SOURCES
+    assert PREDICTIVE_SOURCES == SOURCES
+
+
+def test_a_csv_of_unequal_spacing_is_refused_before_the_draw(capsys, fitted):
+    import json
+    record = json.loads((fitted / "eq18.json").read_text())
+    record["spacing_um"] = [1.0, 2.0]
+    (fitted / "aniso.json").write_text(json.dumps(record))
+    code, _, err = run(capsys, "simulate", "--from", fitted / "aniso.json", "--seed", 1,
+                       "--out", fitted / "aniso.csv")
+    assert code == 2 and "a .csv stores one spacing" in err, err
+    assert "drawn in" not in err and not (fitted / "aniso.csv").exists()
