@@ -106,7 +106,7 @@ def run_file(path: str, sha256: str, plan: Plan, folder: str) -> dict:
                                            folder)
                 elif step == "simulate":
                     record["simulate"] = _simulate(path, heights, model_path, record["seed"],
-                                                   folder)
+                                                   folder, plan.of("simulate"))
                 record["seconds"][step] = time.perf_counter() - begin
         record["warnings"] = sorted({str(w.message) for w in caught})
         record["status"] = "done"
@@ -386,9 +386,11 @@ def _fill(path, heights, options, seed, folder):
     return entry
 
 
-def _simulate(path, heights, model_path, seed, folder):
+def _simulate(path, heights, model_path, seed, folder, options=None):
     """``roughgp simulate --from MODEL.json --shape (the file's) --seed SEED``, through the
-    rest of the chain."""
+    rest of the chain; with ``predictive_from`` (``batch --predictive B --predictive-from
+    SOURCE``) the surface's model drawn first, as ``simulate --predictive-from SOURCE`` (tiles:
+    of the part the model was fitted on, the file's points as the fit saw them)."""
     from roughgp.api import simulate
     from roughgp.common.atomic import atomic_output
     from roughgp.io.writers import write_heights
@@ -397,10 +399,22 @@ def _simulate(path, heights, model_path, seed, folder):
     model = FittedModel.load(model_path)
     shape = heights.z.shape if model.kind == "surface" else (heights.z.shape[-1],)
     spacing = model.spacing
-    z = rest_of_chain(model, simulate(model, shape, seed=seed, spacing=spacing), spacing).sl
+    source = (options or {}).get("predictive_from")
+    fitted = None
+    if source == "tiles":
+        from roughgp.checking.held_out import Part
+        part = model.data.get("part") if isinstance(model.data, dict) else None
+        fitted = (heights.z if part is None else Part.from_dict(part).cut(heights.z),
+                  tuple(heights.spacing))
+    z = simulate(model, shape, seed=seed, spacing=spacing, predictive=source, fitted=fitted)
+    z = rest_of_chain(model, z, spacing).sl
     out = Path(folder) / ARTEFACTS["simulate"]
+    how = "" if source is None else f" --predictive-from {source}"
     with atomic_output(out) as partial:
         write_heights(partial, z, spacing[-1] if len(set(spacing)) == 1 else tuple(spacing),
-                      f"roughgp batch simulate --from {Path(model_path).name} --seed {seed}: "
-                      f"{model.describe()}")
-    return {"file": _relative(out), "shape": list(z.shape)}
+                      f"roughgp batch simulate --from {Path(model_path).name}{how} --seed "
+                      f"{seed}: {model.describe()}")
+    entry = {"file": _relative(out), "shape": list(z.shape)}
+    if source is not None:
+        entry["predictive_from"] = source
+    return entry

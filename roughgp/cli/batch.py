@@ -10,7 +10,7 @@ import os
 from pathlib import Path
 
 from roughgp.cli.bounds import bounds_text, integer
-from roughgp.cli.options import Given, cutoff
+from roughgp.cli.options import PREDICTIVE_SOURCES, Given, cutoff
 from roughgp.cli.output import UsageError, err
 from roughgp.surface_models.schema import MAX_ANCHORS
 
@@ -181,20 +181,20 @@ def add_parser(sub, formatter) -> None:
                         "then checks the model on that half and on the other half it did not "
                         "see (as 'roughgp fit ground --part' and 'check --held-out'); "
                         "profiles are fitted whole")
-    c = b.add_argument_group("check and fill")
+    c = b.add_argument_group("check, simulate and fill")
     c.add_argument("--simulations", type=integer("--simulations"), default=19, metavar="N",
                    help=f"check: simulations of the model, {bounds_text('--simulations')} "
                         f"(default 19)")
     c.add_argument("--predictive", type=integer("--predictive"), metavar="B",
                    help=f"check: draw the simulations from B models that carry the fit's "
                         f"uncertainty, {bounds_text('--predictive')} (default: the plug-in "
-                        f"model)")
-    c.add_argument("--predictive-from", choices=("refits", "sandwich", "tiles"),
+                        f"model); simulate: draw the surface's model first, the same way")
+    c.add_argument("--predictive-from", choices=PREDICTIVE_SOURCES,
                    default="refits",
-                   help="check: the models of --predictive: bootstrap refits, eq 18 "
-                        "parameter sets of the Whittle sandwich covariance, or the fitted "
-                        "part's tiles drawn with replacement (with --part) (as 'roughgp "
-                        "check')")
+                   help="check and simulate: the models of --predictive: bootstrap refits, "
+                        "eq 18 parameter sets of the Whittle sandwich covariance, or the "
+                        "fitted part's tiles drawn with replacement (with --part) (as "
+                        "'roughgp check' and 'roughgp simulate --from')")
     c.add_argument("--plots", action="store_true",
                    help="check: also write each file's figure (files/NAME/check.png)")
     c.add_argument("--fill-method", choices=("local", "global"), default="local",
@@ -247,6 +247,8 @@ def plan_of(args):
                         "nu": args.fill_nu if args.fill_nu == "auto" else float(args.fill_nu),
                         "self_check": args.self_check, "block": args.block,
                         "blocks": args.blocks}}
+    if args.predictive:  # only when given: the plans (and records) of earlier batches stay current
+        options["simulate"] = {"predictive_from": args.predictive_from}
     options = {k: v for k, v in options.items() if k == "read" or k in args.steps}
     try:
         return Plan(steps=args.steps, seed=args.seed, options=options)

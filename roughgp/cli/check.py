@@ -10,6 +10,7 @@ import time
 
 from roughgp.cli.bounds import bounds_text, integer
 from roughgp.cli.options import (
+    PREDICTIVE_SOURCES,
     add_part_option,
     add_spurious_options,
     crop_to_part,
@@ -104,7 +105,7 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
     c.add_argument("--predictive", type=integer("--predictive"), metavar="B",
                    help=f"draw the simulations from B refits of bootstrap measurements of the "
                         f"model, {bounds_text('--predictive')} (default: the plug-in model)")
-    c.add_argument("--predictive-from", choices=("refits", "sandwich", "tiles"),
+    c.add_argument("--predictive-from", choices=PREDICTIVE_SOURCES,
                    default="refits",
                    help="how --predictive draws the models: 'refits' (B bootstrap refits, "
                         "any rung --calibrate refits), 'sandwich' (eq 18: B parameter sets "

@@ -19,7 +19,12 @@ __all__ = ["add_part_option", "crop_to_part", "cutoff", "add_form_options",
            "add_operator_options", "operator_settings", "check_cutoffs", "load_model",
            "check_scales", "seed_or_fresh", "read_input", "Given", "add_l_kind_options",
            "add_spurious_options", "fitted_size", "flagged_output", "remove_spurious",
-           "write_flagged"]
+           "write_flagged", "PREDICTIVE_SOURCES"]
+
+#: how ``--predictive-from`` (check, batch, simulate) draws the models that carry the fit's
+#: uncertainty: :data:`roughgp.checking.predictive.SOURCES`, written out so that the parser does
+#: not import the checking package at start-up (a test holds them equal)
+PREDICTIVE_SOURCES = ("refits", "sandwich", "tiles")
 
 
 def seed_or_fresh(seed):

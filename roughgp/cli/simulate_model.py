@@ -11,15 +11,12 @@ from pathlib import Path
 
 import numpy as np
 
+from roughgp.cli.options import PREDICTIVE_SOURCES
 from roughgp.cli.output import UsageError, check_outputs, err
 from roughgp.io.writers import WRITE_FORMATS, write_heights
 
-__all__ = ["PREDICTIVE_SOURCES", "add_predictive_options", "fitted_map", "run_model"]
+__all__ = ["add_predictive_options", "fitted_map", "run_model"]
 
-#: how ``--predictive-from`` draws the model of the surface: the sources of
-#: :data:`roughgp.checking.predictive.SOURCES`, written out so that the parser does not import
-#: the checking package at start-up (a test holds them equal)
-PREDICTIVE_SOURCES = ("refits", "sandwich", "tiles")
 
 _ABOUT = {"refits": "one bootstrap refit of the model (a measurement of the fitted size drawn "
                     "from the model and refitted the way the model was fitted)",

@@ -427,3 +427,37 @@ def test_spurious_leaves_out_the_points_the_single_commands_do(tmp_path, capsys)
     def total(h):
         return h["variance_um2"] + h["noise_variance_um2"]
     assert total(raw["fit"]["hyperparameters"]) > 1.5 * total(single)
+
+
+def test_predictive_simulate_draws_as_the_single_command_does(tmp_path, capsys):
+    """``--steps fit,simulate --predictive B --predictive-from tiles``: the simulated map is
+    ``simulate --from MODEL --predictive-from tiles --fitted FILE`` with the file's seed, not
+    the plug-in draw; the record says how it was drawn."""
+    import roughgp
+    from roughgp.experiments.held_out import synthetic_map
+    z, _, _ = synthetic_map("stationary", 6, shape=(64, 128))
+    folder = tmp_path / "in"
+    folder.mkdir()
+    np.save(folder / "map.npy", z)
+    fit = ("--model", "psd", "--marginal", "iaaft", "--l-filter", "none", "--part", "left")
+    drawn = {}
+    for name, extra in (("plug-in", ()), ("tiles", ("--predictive", "5", "--predictive-from",
+                                                      "tiles"))):
+        out = tmp_path / name
+        code, _, err = run(capsys, "batch", folder, "--out", out, "--workers", "1", "--steps",
+                           "fit,simulate", *fit, *extra)
+        assert code == 0, err
+        (record,) = _records(out).values()
+        assert record["simulate"].get("predictive_from") == (None if name == "plug-in"
+                                                             else "tiles")
+        drawn[name] = roughgp.read(out / record["simulate"]["file"]).z
+    model, single = tmp_path / "left.json", tmp_path / "single.npy"
+    code, _, err = run(capsys, "fit", "ground", folder / "map.npy", *fit, "--seed",
+                       record["seed"], "--out", model)
+    assert code == 0, err
+    code, _, err = run(capsys, "simulate", "--from", model, "--shape", *map(str, z.shape),
+                       "--seed", record["seed"], "--predictive-from", "tiles", "--fitted",
+                       folder / "map.npy", "--out", single)
+    assert code == 0, err
+    np.testing.assert_allclose(drawn["tiles"], np.load(single), rtol=1e-9, atol=1e-12)
+    assert not np.allclose(drawn["tiles"], drawn["plug-in"])

@@ -138,7 +138,7 @@ def test_the_fitted_file_is_checked_before_anything_is_drawn(capsys, fitted):
 
 def test_the_parser_s_sources_are_the_library_s():
     from roughgp.checking.predictive import SOURCES
-    from roughgp.cli.simulate_model import PREDICTIVE_SOURCES
+    from roughgp.cli.options import PREDICTIVE_SOURCES
     assert PREDICTIVE_SOURCES == SOURCES
 
 
