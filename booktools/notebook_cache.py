@@ -11,7 +11,8 @@ its outputs (jupyter-cache keeps a notebook's existing outputs). So a ``make boo
 jupyter-cache keys a notebook by its code cells alone; the book's notebooks also depend on the
 library, the pinned environment, the data they read and the size switch. :func:`fingerprint`
 hashes those, and :func:`prepare` empties the cache when the fingerprint changed, so a change to
-``roughgp/``, to ``requirements.lock``, to ``pyproject.toml``, to ``data/`` or to
+``roughgp/``, to ``benchmarks/results/`` (the recorded runs the chapters read), to
+``requirements.lock``, to ``pyproject.toml``, to ``data/`` or to
 ``ROUGHGP_FULL`` re-executes every chapter. A fresh clone has no cache: everything runs. The
 ledger's test switches ``ROUGHGP_LEDGER_ONLY`` and ``ROUGHGP_LEDGER_FAULT`` (a run on a few
 claims, an injected regression) and the start jitter ``ROUGHGP_START_JITTER`` (a perturbed
@@ -53,7 +54,9 @@ BOOK = ROOT / "book"
 CACHE = BOOK / "_build" / ".jupyter_cache"
 KEY_FILE = "roughgp-fingerprint.txt"
 # What every chapter depends on besides its own cells (paths relative to the repository).
-DEPENDENCIES = ("roughgp", "data", "requirements.lock", "pyproject.toml")
+#: what the notebooks read besides their cells: the library, the data, the recorded runs that
+#: the chapters report (a run recorded again must re-execute them), the pinned environment
+DEPENDENCIES = ("roughgp", "data", "benchmarks/results", "requirements.lock", "pyproject.toml")
 TIMEOUT = 900  # seconds per cell, as book/_config.yml's execute.timeout
 # Test switches of the claims ledger (roughgp.ledger.runner.ONLY_ENV and FAULT_ENV) and the start
 # jitter of a perturbed numerical set-up (roughgp.common.numerics.ENV): part of the fingerprint
@@ -93,9 +96,8 @@ def prepare(cache: Path = CACHE, root: Path = ROOT, log=print) -> Path:
     key = fingerprint(root)
     key_file = cache / KEY_FILE
     if cache.exists() and (not key_file.is_file() or key_file.read_text().strip() != key):
-        log(f"notebook cache: roughgp, the lock, the data, ROUGHGP_FULL or a ledger test "
-            f"switch changed; "
-            f"every notebook runs again (emptied {cache})")
+        log(f"notebook cache: roughgp, the lock, the data, the recorded runs, ROUGHGP_FULL or a "
+            f"ledger test switch changed; every notebook runs again (emptied {cache})")
         shutil.rmtree(cache)
     cache.mkdir(parents=True, exist_ok=True)
     key_file.write_text(key + "\n")

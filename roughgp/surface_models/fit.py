@@ -298,13 +298,19 @@ def fit_psd_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, axi
     table, f_min, f_max = psd_table.estimate(heights, (dy, dx))
     variance = float(np.var(heights[measured]))
     table *= variance / psd_table.table_variance(table, f_min, f_max, (dy, dx), arr.shape)
+    if cutoffs["s_um"] is not None or cutoffs["l_um"] is not None:
+        band = texture.sl[np.isfinite(texture.sl)]
+        table = psd_table.scale_to_band(table, f_min, f_max, (dy, dx), arr.shape, variance,
+                                        float(np.var(band)), cutoffs["s_um"], cutoffs["l_um"])
     hyper = {"psd_um4": table.tolist(), "frequency_min_per_um": f_min,
              "frequency_max_per_um": f_max, "noise_variance_um2": 0.0,
              "mean_um": float(np.mean(heights[measured]))}
     described = described_data(data, arr.shape, (dy, dx), measured)
     how = {"method": (f"Tukey-windowed periodogram of the mean-filled form-removed heights, "
                       f"{psd_table.N_RADII} x {psd_table.N_ANGLES} log-polar bins of >= "
-                      f"{psd_table.MIN_ORDINATES} ordinates (roughgp.surface_models.psd_table)"),
+                      f"{psd_table.MIN_ORDINATES} ordinates brought to the bins' centres along "
+                      f"the local slope, scaled to the variance and the filtered band's "
+                      f"(roughgp.surface_models.psd_table)"),
            "seed": seed, "seconds": round(time.perf_counter() - start, 2)}
     model = FittedModel("measured-psd", hyper, (dy, dx), marginal_of(heights, marginal, texture.sl,
                                                            cutoffs["l_um"]),

@@ -419,12 +419,12 @@ class FittedModel:
         the PSD)."""
         from roughgp.surface_models import iaaft
         cut = self.marginal.get("above_l_um") if self.marginal_method == "iaaft" else None
-        sds = {}   # the remapped field's sd over realisations, by shape (iaaft.remap_sd)
+        sds = {}   # the remapped field's sd over realisations, by shape (remap_scale)
 
         def remapped(field):
             if field.shape not in sds:
-                sds[field.shape] = iaaft.remap_sd(self.kernel(), self.noise_variance,
-                                                  field.shape, spacing, cut)
+                from roughgp.surface_models.measured_psd import remap_scale
+                sds[field.shape] = remap_scale(self, field.shape, spacing, cut)
             return self._remapped(field, sds[field.shape])
         if cut is None:
             return remapped

@@ -12,10 +12,12 @@ def _root(tmp_path):
     (root / "data").mkdir()
     (root / "data" / "m.csv").write_text("1,2\n")
     (root / "requirements.lock").write_text("numpy==2.0\n")
+    (root / "benchmarks" / "results").mkdir(parents=True)
+    (root / "benchmarks" / "results" / "run.jsonl").write_text("{}\n")
     return root
 
 
-def test_the_key_changes_with_the_library_the_data_the_lock_and_the_size_switch(
+def test_the_key_changes_with_the_library_the_data_the_records_the_lock_and_the_size_switch(
         tmp_path, monkeypatch):
     root = _root(tmp_path)
     monkeypatch.delenv("ROUGHGP_FULL", raising=False)
@@ -28,11 +30,13 @@ def test_the_key_changes_with_the_library_the_data_the_lock_and_the_size_switch(
     for change in (lambda: (root / "roughgp" / "a.py").write_text("x = 2\n"),
                    lambda: (root / "roughgp" / "b.py").write_text(""),
                    lambda: (root / "data" / "m.csv").write_text("1,3\n"),
+                   # a run recorded again: the chapters that report it must run again
+                   lambda: (root / "benchmarks" / "results" / "run.jsonl").write_text("{1}\n"),
                    lambda: (root / "requirements.lock").write_text("numpy==2.1\n"),
                    lambda: monkeypatch.setenv("ROUGHGP_FULL", "1")):
         change()
         keys.add(notebook_cache.fingerprint(root))
-    assert len(keys) == 6
+    assert len(keys) == 7
 
 
 def test_prepare_empties_a_cache_of_another_key_only(tmp_path):
