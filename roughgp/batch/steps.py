@@ -300,12 +300,10 @@ def _check(path, heights, model_path, options, seed, folder):
     models, held = None, ()
     part = model.data.get("part") if isinstance(model.data, dict) else None
     if options.get("predictive"):
-        from roughgp.checking.held_out import Part
         from roughgp.checking.predictive import predictive_models
-        fitted = None if part is None else (Part.from_dict(part).cut(heights.z), spacing)
         models, held = predictive_models(model, options["predictive"],
                                          source=options.get("predictive_from", "refits"),
-                                         seed=seed, fitted=fitted)
+                                         seed=seed, fitted=_fitted_part(model, heights, spacing))
     if part is not None and model.kind == "surface":
         from roughgp.checking.held_out import Part, held_out_check
         both = held_out_check(model, heights.z, spacing, fitted_part=Part.from_dict(part),
@@ -337,6 +335,17 @@ def _check(path, heights, model_path, options, seed, folder):
         plt.close(figure)
         entries["check"]["plot"] = _relative(out)
     return entries
+
+
+def _fitted_part(model, heights, spacing):
+    """``(z, spacing)`` of the part of the file's heights the model was fitted on (its
+    ``data.part``: ``batch --part``), what the tile bootstrap draws from; None where the model
+    records no part (the batch refuses tiles without ``--part``)."""
+    part = model.data.get("part") if isinstance(model.data, dict) else None
+    if part is None:
+        return None
+    from roughgp.checking.held_out import Part
+    return Part.from_dict(part).cut(heights.z), spacing
 
 
 def _check_entry(result, n, part=None) -> dict:
@@ -400,12 +409,7 @@ def _simulate(path, heights, model_path, seed, folder, options=None):
     shape = heights.z.shape if model.kind == "surface" else (heights.z.shape[-1],)
     spacing = model.spacing
     source = (options or {}).get("predictive_from")
-    fitted = None
-    if source == "tiles":
-        from roughgp.checking.held_out import Part
-        part = model.data.get("part") if isinstance(model.data, dict) else None
-        fitted = (heights.z if part is None else Part.from_dict(part).cut(heights.z),
-                  tuple(heights.spacing))
+    fitted = _fitted_part(model, heights, tuple(heights.spacing)) if source == "tiles" else None
     z = simulate(model, shape, seed=seed, spacing=spacing, predictive=source, fitted=fitted)
     z = rest_of_chain(model, z, spacing).sl
     out = Path(folder) / ARTEFACTS["simulate"]

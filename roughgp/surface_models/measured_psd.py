@@ -68,13 +68,9 @@ def passed_sd(model, shape, spacing, l_um) -> float:
     clipped at 0, leaks a share of the long waves into the band, and a real surface's long
     waves hold hundreds of times the band's variance (0.0019 against 0.0015 um on the fitted
     half of data/mnt-2-crop.x3p, whose simulations' Sq then fell to 0.72 of the measured)."""
-    import scipy.fft
     table, f_min, f_max = _table(model)
-    (my, mx), (dy, dx) = psd_table.torus_shape(shape, spacing, f_min), spacing
-    qy, qx = scipy.fft.fftfreq(my, dy), scipy.fft.fftfreq(mx, dx)
-    c = psd_table.psd_at(table, f_min, f_max, qy, qx)
-    passed = psd_table.band_transmission(np.hypot(qy[:, None], qx[None, :]), None, l_um)
-    return math.sqrt(float(np.sum(c * passed)) / (my * dy * mx * dx))
+    torus = psd_table.torus_shape(shape, spacing, f_min)
+    return math.sqrt(psd_table.table_variance(table, f_min, f_max, spacing, torus, l_um=l_um))
 
 
 def remap_scale(model, shape, spacing, l_um=None) -> float:

@@ -355,11 +355,16 @@ def acvf_grid(table, f_min, f_max, shape, spacing):
     return scipy.fft.irfft2(amplitude ** 2, s=torus)
 
 
-def table_variance(table, f_min, f_max, spacing, shape):
+def table_variance(table, f_min, f_max, spacing, shape, s_um=None, l_um=None):
     """The variance of the table over the measured band on the DFT grid of a field of
-    ``shape``: :math:`\\sum C \\Delta q` over the frequencies from ``f_min`` on (um^2)."""
+    ``shape``: :math:`\\sum C \\Delta q` over the frequencies from ``f_min`` on (um^2); with
+    ``s_um`` or ``l_um``, what the Gaussian S- and L-filters pass of it,
+    :math:`\\sum C H \\Delta q` (:func:`band_transmission`)."""
     (ny, nx), (dy, dx) = shape, spacing
-    c = psd_at(table, f_min, f_max, scipy.fft.fftfreq(ny, dy), scipy.fft.fftfreq(nx, dx))
+    qy, qx = scipy.fft.fftfreq(ny, dy), scipy.fft.fftfreq(nx, dx)
+    c = psd_at(table, f_min, f_max, qy, qx)
+    if s_um is not None or l_um is not None:
+        c = c * band_transmission(_polar(qy, qx)[0], s_um, l_um)
     return float(c.sum() / (ny * dy * nx * dx))
 
 
