@@ -101,8 +101,11 @@ def _marginal(model, heights, filtered):
     if method == "johnson":
         return marginal_of(heights, "johnson")
     from roughgp.surface_models.pareto_tails import pareto_tails_table
+    from roughgp.surface_models.order_scores import scores_for_table
     quantiles, tail, _ = pareto_tails_table(filtered, len(model.marginal["quantiles_um"]))
-    return {**model.marginal, "quantiles_um": quantiles, "tail_probability": tail}
+    scores = scores_for_table(model.marginal, tail, len(quantiles))
+    return {**model.marginal, "quantiles_um": quantiles, "tail_probability": tail,
+            **({} if scores is None else {"order_scores": scores})}
 
 
 def tile_bootstrap_models(model: FittedModel, z, n_models, *, spacing=None, tiles=TILES,

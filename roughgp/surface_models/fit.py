@@ -62,6 +62,7 @@ from roughgp.surface_models.chain import (
 )
 from roughgp.surface_models.in_range import keep_in_range
 from roughgp.surface_models.model import FittedModel
+from roughgp.surface_models.order_scores import with_order_scores
 from roughgp.surface_models.spectral_mixture import MAX_COMPONENTS, whittle_fit
 
 __all__ = ["LIKELIHOODS", "SurfaceModelFit", "ProfileModelFit", "SmModelFit", "PsdModelFit",
@@ -169,6 +170,7 @@ def fit_surface_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2,
                                   cutoffs["l_um"]), tuple(texture.operators),
                         cutoffs, described, how, stage)
     model, notes = keep_in_range(model, arr.shape, block if likelihood == "blocks" else None)
+    model = with_order_scores(model, arr, (dy, dx), seed=seed)
     return SurfaceModelFit(model, texture, fit, tuple(notes))
 
 
@@ -261,6 +263,7 @@ def fit_sm_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, axis
     model = FittedModel("sm2d", hyper, (dy, dx),
                         marginal_of(heights, marginal, texture.sl, cutoffs["l_um"]),
                         tuple(texture.operators), cutoffs, described, how, "form-removed")
+    model = with_order_scores(model, arr, (dy, dx), seed=seed)
     return SmModelFit(model, texture, tuple(table), tuple(notes))
 
 
@@ -316,4 +319,5 @@ def fit_psd_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, axi
                                                            cutoffs["l_um"]),
                         tuple(texture.operators),
                         cutoffs, described, how, "form-removed")
+    model = with_order_scores(model, arr, (dy, dx), seed=seed)
     return PsdModelFit(model, texture, variance)

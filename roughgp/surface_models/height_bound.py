@@ -58,7 +58,8 @@ def extreme_height(model) -> tuple[float, str]:
         from roughgp.surface_models.iaaft import values_at_scores
         ends = values_at_scores(model.marginal["quantiles_um"],
                                 model.marginal["tail_probability"],
-                                [-EXTREME_SCORE, EXTREME_SCORE])
+                                [-EXTREME_SCORE, EXTREME_SCORE],
+                                model.marginal.get("order_scores"))
         return float(max(abs(ends[0]), abs(ends[1]))), "the marginal's quantiles_um"
     if model.marginal_method == "johnson" and variance > 0:
         from roughgp.non_gaussian.johnson import johnson_for

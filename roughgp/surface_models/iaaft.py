@@ -23,7 +23,11 @@ from 3.8 to 4.2 in the simulations. A simulation is made as follows (:func:`iaaf
    distribution made once per simulation from the draw of step 1: its normal scores through
    the quantile function (below), interpolated linearly in the normal score between the
    stored quantiles, and beyond the measured extremes continued straight with the slope of
-   the table's outermost unit of normal score;
+   the table's outermost unit of normal score. The stored quantiles are keyed at the normal
+   scores where the model's own correlated surfaces hold those ranks (the marginal's
+   ``order_scores``, :mod:`roughgp.surface_models.order_scores`), not at the Hazen positions
+   of independent points: keyed there, the measured extremes and Sq lay above most
+   simulations';
 4. *spectrum*: replace the DFT amplitudes of the result by :math:`A`, keeping its phases;
 5. repeat 3-4 until the rank order no longer changes between two remaps (the stated stopping
    rule) or after ``iterations`` rounds (:data:`ITERATIONS` by default), and end on a remap.
@@ -104,7 +108,7 @@ import scipy.special
 from roughgp.metrology.filters import ALPHA
 
 __all__ = ["N_QUANTILES", "ITERATIONS", "BAND_ROUNDS", "BAND_TOLERANCE", "quantile_table",
-           "quantile_values", "values_at_scores", "iaaft", "iaaft_above",
+           "quantile_values", "values_at_scores", "hazen_scores", "iaaft", "iaaft_above",
            "band_rounds", "remap_sd"]
 
 N_QUANTILES = 1001  #: quantiles stored: probabilities 0, 0.001, ..., 1 (the extremes included)
@@ -113,7 +117,9 @@ BAND_ROUNDS = 10  #: with an L-filter: the most rounds of the band's remap (:fun
 BAND_TOLERANCE = 0.01  #: ... until the correction is at most this share of the band (rms)
 
 
-def _scores(tail_probability, n_quantiles):
+def hazen_scores(tail_probability, n_quantiles) -> np.ndarray:
+    """The ``n_quantiles`` normal scores, equally spaced, from the Hazen position of the lowest
+    of the measured heights, ``tail_probability``, to that of the highest."""
     t0 = float(scipy.special.ndtri(tail_probability))
     return np.linspace(t0, -t0, n_quantiles)
 
@@ -129,7 +135,7 @@ def quantile_table(heights, n_quantiles=N_QUANTILES) -> tuple:
     if not np.ptp(h) > 0:
         raise ValueError("the heights are all equal: no height distribution to match")
     tail = 0.5 / h.size
-    p = scipy.special.ndtr(_scores(tail, n_quantiles))
+    p = scipy.special.ndtr(hazen_scores(tail, n_quantiles))
     q = np.quantile(h, np.clip(p, tail, 1.0 - tail), method="hazen")
     q[0], q[-1] = h.min(), h.max()
     return np.maximum.accumulate(q).tolist(), tail
@@ -149,13 +155,17 @@ def quantile_values(quantiles, tail_probability, n, rng=None):
                             scipy.special.ndtri(_probabilities(n, rng)))
 
 
-def values_at_scores(quantiles, tail_probability, t):
+def values_at_scores(quantiles, tail_probability, t, keys=None):
     """The heights at the normal scores ``t`` of the distribution tabulated in ``quantiles``
     (:func:`quantile_table`): interpolated in the table, and beyond the measured extremes
-    straight on in the normal score with the slope of the table's outermost unit."""
+    straight on in the normal score with the slope of the table's outermost unit. ``keys``:
+    the increasing normal scores the quantiles sit at
+    (:func:`~roughgp.surface_models.order_scores.table_scores`); default the Hazen positions
+    of ``tail_probability``."""
     q = np.asarray(quantiles, dtype=np.float64)
     t = np.asarray(t, dtype=np.float64)
-    scores = _scores(tail_probability, q.size)
+    scores = hazen_scores(tail_probability, q.size) if keys is None else \
+        np.asarray(keys, dtype=np.float64)
     values = np.interp(t, scores, q)
     # beyond the measured extremes (more points than measured): straight on in the normal score
     # with the slope of the outermost normal-score unit of the table

@@ -51,9 +51,10 @@ a sum of independent parts has skewness :math:`w^{3/2}` times and excess kurtosi
 times the latent one, so the latent targets are the measured ones divided by these factors.
 On the measured-psd model the Johnson marginal is drawn by IAAFT toward the Johnson
 distribution instead (a transform would change the PSD). The IAAFT marginal (``marginal =
-{"method": "iaaft", "quantiles_um": [...], "tail_probability": p, "iterations": n}``) keeps
-the measured heights' quantile function and matches it exactly, on any surface equation
-(:mod:`roughgp.surface_models.iaaft`).
+{"method": "iaaft", "quantiles_um": [...], "tail_probability": p, "iterations": n,
+"order_scores": [...]}``) keeps the measured heights' quantile function and matches it
+exactly, on any surface equation (:mod:`roughgp.surface_models.iaaft`, keyed as
+:mod:`roughgp.surface_models.order_scores` says).
 """
 
 from __future__ import annotations
@@ -438,7 +439,8 @@ class FittedModel:
         scores = field / sd
         if self.marginal_method == "iaaft":
             values = iaaft.values_at_scores(self.marginal["quantiles_um"],
-                                            self.marginal["tail_probability"], scores)
+                                            self.marginal["tail_probability"], scores,
+                                            self.marginal.get("order_scores"))
             iterations = int(self.marginal["iterations"])
         else:
             from roughgp.non_gaussian.johnson import johnson_for

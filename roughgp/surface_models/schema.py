@@ -18,8 +18,8 @@ import math
 __all__ = ["ModelFileError", "MODEL_FORMAT", "MODEL_VERSIONS", "STAGES", "EQUATIONS", "RANGES",
            "MAX_DEPTH", "MAX_FILE_BYTES", "MAX_MIXTURES", "MAX_SM2D_COMPONENTS",
            "SM2D_BANDWIDTHS", "FORMS", "AXES", "MAX_ANCHORS", "FIELD_NAMES", "FIT_INTEGERS",
-           "FEED_DIRECTIONS", "MARK_SAMPLES",
-           "FIT_LIKELIHOODS", "validate_record", "check_fields", "check_fit"]
+           "FEED_DIRECTIONS", "MARK_SAMPLES", "FIT_LIKELIHOODS", "validate_record",
+           "check_fields", "check_fit"]
 
 MODEL_FORMAT = "roughgp-model"
 #: versions read: 1 (no stage: its models describe the filtered heights) and 2
@@ -99,8 +99,7 @@ RANGES = {
     "variance_um2": (0.0, 1e12, False),
     "weights_um2": (0.0, 1e12, False),
     "noise_variance_um2": (0.0, 1e12, True),
-    "lambda_a_um": (0.0, 1e9, False),
-    "lambda_b_um": (0.0, 1e9, False),
+    "lambda_a_um": (0.0, 1e9, False), "lambda_b_um": (0.0, 1e9, False),
     "angle_deg": (-360.0, 360.0, True),
     "frequencies_per_um": (0.0, 1e9, True),
     "spectral_variances_per_um2": (0.0, 1e18, False),
@@ -113,15 +112,12 @@ RANGES = {
     "psd_um4": (0.0, 1e30, True),
     "quantiles_um": (-1e9, 1e9, True),
     "tail_probability": (0.0, 0.25, False),
-    "frequency_min_per_um": (0.0, 1e9, False),
-    "frequency_max_per_um": (0.0, 1e9, False),
-    "frequencies_x_per_um": (-1e9, 1e9, True),
-    "frequencies_y_per_um": (-1e9, 1e9, True),
-    "bandwidths_a_per_um": (0.0, 1e9, False),
-    "bandwidths_b_per_um": (0.0, 1e9, False),
+    "order_scores": (-40.0, 40.0, True),  # normal scores (roughgp.surface_models.order_scores)
+    "frequency_min_per_um": (0.0, 1e9, False), "frequency_max_per_um": (0.0, 1e9, False),
+    "frequencies_x_per_um": (-1e9, 1e9, True), "frequencies_y_per_um": (-1e9, 1e9, True),
+    "bandwidths_a_per_um": (0.0, 1e9, False), "bandwidths_b_per_um": (0.0, 1e9, False),
     "axes_deg": (-360.0, 360.0, True),
-    "anchors_x_um": (-1e9, 1e9, True),
-    "anchors_y_um": (-1e9, 1e9, True),
+    "anchors_x_um": (-1e9, 1e9, True), "anchors_y_um": (-1e9, 1e9, True),
     "feed_um": (0.0, 1e9, False),
     "lambda_um": (0.0, 1e9, False),
     "origin_um": (0.0, 1e9, True),
@@ -270,10 +266,10 @@ def check_fields(equation, hyperparameters, spacing, marginal, cutoffs, stage, o
 
 
 def _check_iaaft(marginal):
-    """The IAAFT marginal: ``QUANTILES`` non-decreasing heights (um), not all equal, and an
-    iteration count in ``ITERATIONS``."""
+    """The IAAFT marginal: ``QUANTILES`` non-decreasing heights (um), not all equal, an
+    iteration count in ``ITERATIONS``, and strictly increasing ``order_scores`` if any."""
     extra = sorted(set(marginal) - {"method", "quantiles_um", "tail_probability", "iterations",
-                                    "above_l_um"})
+                                    "above_l_um", "order_scores"})
     missing = sorted({"quantiles_um", "tail_probability", "iterations"} - set(marginal))
     if extra or missing:
         raise ModelFileError("the iaaft marginal takes method, quantiles_um, tail_probability "
@@ -290,6 +286,11 @@ def _check_iaaft(marginal):
         raise ModelFileError("quantiles_um must be non-decreasing and not all equal (the "
                              "quantile function of the heights)")
     number("tail_probability", marginal["tail_probability"], where="marginal tail_probability")
+    if "order_scores" in marginal:   # roughgp.surface_models.order_scores
+        keys = _numbers("order_scores", marginal["order_scores"], count=(len(q),))
+        if any(b <= a for a, b in zip(keys, keys[1:])):
+            raise ModelFileError("order_scores must be strictly increasing (one normal score "
+                                 "per quantile)")
     if "above_l_um" in marginal:
         number("l_um", marginal["above_l_um"], where="marginal above_l_um")
     n = marginal["iterations"]
