@@ -38,11 +38,17 @@ def add_predictive_options(parser) -> None:
                         help="with --predictive-from tiles: the measurement the model was "
                              "fitted on (checked against the SHA-256 the model file records; "
                              "the model's part of it is used)")
+    parser.add_argument("--spurious", action="store_true",
+                        help="with --fitted: leave out the spurious points of FILE as a fit "
+                             "with --spurious did (found by the GP on the whole file, with the "
+                             "model's F-operator and the fit's seed), so that the tiles hold "
+                             "the points the model was fitted on")
 
 
-def fitted_map(model, path, option="--fitted") -> tuple:
+def fitted_map(model, path, option="--fitted", spurious=False) -> tuple:
     """``(z, spacing)`` of the map (the model's part of it) that ``model`` was fitted on, read
-    from ``path``; a :class:`UsageError` where ``path`` is not that file."""
+    from ``path``; a :class:`UsageError` where ``path`` is not that file. ``spurious``: its
+    spurious points left out first, as ``fit --spurious`` found them (:func:`_without_spurious`)."""
     from roughgp.api import read
     from roughgp.checking.held_out import Part
     from roughgp.common.digests import file_sha256
@@ -56,7 +62,7 @@ def fitted_map(model, path, option="--fitted") -> tuple:
     if heights.kind != "surface" or model.kind != "surface":
         raise UsageError(f"{option}: the tile bootstrap cuts a surface into tiles; {path} holds "
                          f"a {heights.kind} and the model is a {model.kind} model")
-    z = heights.z
+    z = _without_spurious(model, heights, path) if spurious else heights.z
     record = data.get("part")
     if record is not None:
         try:
@@ -77,8 +83,9 @@ def fitted_map(model, path, option="--fitted") -> tuple:
     if used is not None and int(used) != int(np.isfinite(z).sum()):
         raise UsageError(f"{option}: the model was fitted on {int(used)} points of "
                          f"{'its part of ' if record else ''}the map, and {path} holds "
-                         f"{int(np.isfinite(z).sum())} there: the fit left points out (fit "
-                         f"--spurious), and the tiles would hold them")
+                         f"{int(np.isfinite(z).sum())} there: the fit left points out"
+                         + (" (fit --spurious: give --spurious too)" if not spurious else "")
+                         + ", and the tiles would hold them")
     assumed = "assumed" in str(heights.spacing_source)
     spacing = tuple(model.spacing) if assumed else tuple(heights.spacing)
     if not np.allclose(spacing, model.spacing, rtol=1e-6):
@@ -88,7 +95,25 @@ def fitted_map(model, path, option="--fitted") -> tuple:
     return z, spacing
 
 
+def _without_spurious(model, heights, path):
+    """The heights of the whole ``heights`` (read from ``path``) with their spurious points
+    unmeasured, found as ``fit ground --spurious`` found them: on the whole file, with the
+    model's F-operator and the seed the model file records for its fit
+    (:func:`roughgp.cli.options.remove_spurious`)."""
+    import argparse
+
+    from roughgp.cli.options import remove_spurious
+    fit = model.fit if isinstance(model.fit, dict) else {}
+    seed = fit.get("seed", 0)
+    found = argparse.Namespace(spurious=True, file=str(path), seed=seed)
+    return remove_spurious(found, heights, model.cutoffs.get("form", "plane"))[0]
+
+
 def _refuse_predictive(args) -> None:
+    if args.spurious and args.fitted is None:
+        raise UsageError("--spurious leaves out the spurious points of the --fitted map, as the "
+                         "fit with --spurious did: give it with --predictive-from tiles "
+                         "--fitted FILE")
     if args.predictive_from is None and args.fitted is not None:
         raise UsageError("--fitted is the map the tile bootstrap draws from: give it with "
                          "--predictive-from tiles")
@@ -161,7 +186,8 @@ def run_model(args, check_shape, check_drawn, max_points) -> int:
     if len(spacing) == 2 and spacing[0] != spacing[1] and out.suffix.lower() == ".csv":
         raise UsageError("the model's spacing differs along y and x: a .csv stores one "
                          "spacing; write .x3p or .npy")
-    fitted = fitted_map(model, args.fitted) if args.predictive_from == "tiles" else None
+    fitted = fitted_map(model, args.fitted, spurious=args.spurious) \
+        if args.predictive_from == "tiles" else None
     seed = seed_or_fresh(args.seed)
     err(f"drawing {' x '.join(map(str, shape))} points from {args.model}: {model.describe()}")
     from roughgp.cli.pace import announce_long_draw

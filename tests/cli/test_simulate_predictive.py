@@ -151,3 +151,46 @@ def test_a_csv_of_unequal_spacing_is_refused_before_the_draw(capsys, fitted):
                        "--out", fitted / "aniso.csv")
     assert code == 2 and "a .csv stores one spacing" in err, err
     assert "drawn in" not in err and not (fitted / "aniso.csv").exists()
+
+
+def test_a_fit_with_spurious_points_left_out_draws_its_tiles_with_spurious(capsys, tmp_path):
+    """``fit ground --spurious`` left the map's spikes out; ``simulate --predictive-from tiles
+    --fitted MAP`` refuses the map (its tiles would hold them) and says to give --spurious,
+    which finds them as the fit did (on the whole file, the fit's seed) and draws; the same
+    seed, the same surface."""
+    from roughgp.experiments.spurious_points import draw_surface
+    z = draw_surface("eq 18", (64, 64), 5)
+    z[10, 20] += 40.0
+    z[40, 50] -= 40.0
+    np.save(tmp_path / "spiked.npy", z)
+    code, _, err = run(capsys, "fit", "ground", tmp_path / "spiked.npy", "--spurious",
+                       "--model", "psd", "--marginal", "iaaft", "--l-filter", "none",
+                       "--seed", 4, "--out", tmp_path / "m.json")
+    assert code == 0, err
+    draw = ("simulate", "--from", tmp_path / "m.json", "--predictive-from", "tiles",
+            "--fitted", tmp_path / "spiked.npy", "--seed", 2)
+    code, _, err = run(capsys, *draw, "--out", tmp_path / "a.npy")
+    assert code == 2 and "give --spurious too" in err, err
+    assert not (tmp_path / "a.npy").exists()
+    for name in ("a.npy", "b.npy"):
+        code, _, err = run(capsys, *draw, "--spurious", "--out", tmp_path / name)
+        assert code == 0, err
+        assert "--spurious:" in err
+    a, b = np.load(tmp_path / "a.npy"), np.load(tmp_path / "b.npy")
+    assert a.shape == (64, 64) and np.array_equal(a, b)
+
+
+@pytest.mark.parametrize("options, words", [
+    (("--spurious",), "give it with --predictive-from tiles --fitted FILE"),
+    (("--predictive-from", "refits", "--spurious"), "give it with --predictive-from tiles"),
+])
+def test_spurious_without_the_fitted_map_is_refused(capsys, fitted, options, words):
+    code, _, err = _simulate(capsys, fitted, "sp.npy", "--seed", 1, *options)
+    assert code == 2 and words in err, err
+    assert not (fitted / "sp.npy").exists()
+
+
+def test_a_kind_refuses_spurious(capsys, tmp_path):
+    code, _, err = run(capsys, "simulate", "--spurious", "ground", "--shape", 8, 8,
+                       "--out", tmp_path / "g.npy")
+    assert code == 2 and "--spurious is for a draw from a model file" in err
