@@ -20,7 +20,9 @@ each, checked in sample with 19 simulations) the measured Sp, Sv, Sz and Sq rank
 :data:`N_DRAWS` Gaussian draws of the fitted model on the measured grid (its holes and its
 operators as the measured heights had them: the F-operator, and the S- and L-filters for a table
 of the filtered heights), of each draw's quantile at each of the table's probabilities, over the
-remap's standard deviation (:func:`~roughgp.surface_models.measured_psd.remap_scale`), made
+remap's standard deviation (:func:`~roughgp.surface_models.measured_psd.remap_scale`, of the
+population the remap acts on: where it depends on the shape, as eq 18's with an L-filter does,
+the keys and a draw of the fitted size then share it), made
 symmetric (a Gaussian draw and its negative are equally likely; without it the keys' noise,
 the same for every map fitted with one seed, tilted the highest against the lowest). A draw as
 extreme as the model's typical surface then gets the measured extremes, a rougher one more. On
@@ -68,6 +70,7 @@ def order_scores(model, z, spacing, *, n_draws=N_DRAWS, seed=0) -> list:
     scores). Strictly increasing."""
     from roughgp.surface_models.chain import apply_operators, form_removed
     from roughgp.surface_models.measured_psd import remap_scale
+    from roughgp.surface_models.psd_table import population_slices
     marginal = model.marginal
     cut = marginal.get("above_l_um")
     z = np.asarray(z, dtype=np.float64)
@@ -88,7 +91,11 @@ def order_scores(model, z, spacing, *, n_draws=N_DRAWS, seed=0) -> list:
         h = heights[np.isfinite(heights)]
         lowest = 0.5 / h.size
         total += np.quantile(h - h.mean(), np.clip(p, lowest, 1.0 - lowest), method="hazen")
-    scores = total / (len(draws) * remap_scale(model, z.shape, spacing, cut))
+    # the sd the remap divides by: of the population it acts on (twice the fitted points), so
+    # that a draw of the fitted size meets the keys in the same units even where the sd
+    # depends on the shape (iaaft.remap_sd with an L-filter)
+    population = tuple(part.stop for part in population_slices(z.shape))
+    scores = total / (len(draws) * remap_scale(model, population, spacing, cut))
     # a Gaussian draw and its negative are equally likely: the lowest score is minus the highest
     scores = 0.5 * (scores - scores[::-1])
     # strictly increasing (the table's ends may share a clipped probability)
