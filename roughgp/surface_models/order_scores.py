@@ -42,15 +42,26 @@ positions, as it was drawn then.
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 import scipy.special
 
 from roughgp.surface_models.iaaft import hazen_scores, values_at_scores
 
-__all__ = ["N_DRAWS", "order_scores", "with_order_scores", "table_scores", "scores_for_table"]
+__all__ = ["N_DRAWS", "FEWEST_DRAWS", "draws_for", "order_scores", "with_order_scores",
+           "table_scores", "scores_for_table"]
 
-N_DRAWS = 32  #: Gaussian draws averaged (the highest point's mean score to about 0.06 sd)
+N_DRAWS = 32  #: Gaussian draws averaged on maps of up to 256 x 256 points (:func:`draws_for`)
+FEWEST_DRAWS = 8  #: ... and on the largest maps, whose quantiles vary less from draw to draw
+_CHUNK_POINTS = N_DRAWS * 65536  #: the most points drawn at once (2 M points: 16 MiB)
+
+
+def draws_for(points) -> int:
+    """The Gaussian draws :func:`order_scores` averages for a map of ``points`` points:
+    :data:`N_DRAWS` up to 65 536 points, fewer in proportion on larger maps (a 512 x 512 map
+    drew 32 in 3.6 s), at least :data:`FEWEST_DRAWS`."""
+    return int(min(N_DRAWS, max(FEWEST_DRAWS, math.ceil(N_DRAWS * 65536 / max(points, 1)))))
 
 
 def table_scores(marginal) -> np.ndarray:
@@ -62,26 +73,33 @@ def table_scores(marginal) -> np.ndarray:
     return hazen_scores(marginal["tail_probability"], len(marginal["quantiles_um"]))
 
 
-def order_scores(model, z, spacing, *, n_draws=N_DRAWS, seed=0) -> list:
+def order_scores(model, z, spacing, *, n_draws=None, seed=0) -> list:
     """The ``order_scores`` of ``model``'s IAAFT marginal (module docstring), fitted to the map
     ``z`` (um, NaN where unmeasured) at ``spacing`` ``(dy, dx)``: the mean of ``n_draws``
-    Gaussian draws' quantiles at the table's probabilities, through the measured heights' holes
-    and operators, over the remap's sd. ``seed``: an integer >= 0 (the same seed, the same
-    scores). Strictly increasing."""
+    (default :func:`draws_for` the map's size; an integer in [2, 1000]) Gaussian draws'
+    quantiles at the table's probabilities, through the measured heights' holes and operators,
+    over the remap's sd. ``seed``: an integer >= 0 (the same seed, the same scores). Strictly
+    increasing."""
+    from roughgp.common.checks import check_integer
     from roughgp.surface_models.chain import apply_operators, form_removed
     from roughgp.surface_models.measured_psd import remap_scale
     from roughgp.surface_models.psd_table import population_slices
+    check_integer("seed", seed, 0, None)
+    if model.marginal_method != "iaaft":
+        raise ValueError(f"order scores key an IAAFT marginal; the model's heights are "
+                         f"{model.marginal_method}")
     marginal = model.marginal
     cut = marginal.get("above_l_um")
     z = np.asarray(z, dtype=np.float64)
+    n_draws = draws_for(z.size) if n_draws is None else n_draws
+    check_integer("n_draws", n_draws, 2, 1000)
     holes = ~np.isfinite(z)
     tail = float(marginal["tail_probability"])
     p = scipy.special.ndtr(hazen_scores(tail, len(marginal["quantiles_um"])))
     gaussian = dataclasses.replace(model, marginal=None)
     rng = np.random.default_rng([int(seed), 0x05C0])
-    draws = gaussian.simulate(z.shape, seed=rng, spacing=spacing, n_samples=int(n_draws))
     total = np.zeros(p.size)
-    for draw in draws:
+    for draw in _draws(gaussian, z.shape, spacing, rng, int(n_draws)):
         draw = np.where(holes, np.nan, draw)
         if cut is None and model.stage != "filtered":
             heights = form_removed(draw, spacing, model.cutoffs).sl
@@ -95,12 +113,21 @@ def order_scores(model, z, spacing, *, n_draws=N_DRAWS, seed=0) -> list:
     # that a draw of the fitted size meets the keys in the same units even where the sd
     # depends on the shape (iaaft.remap_sd with an L-filter)
     population = tuple(part.stop for part in population_slices(z.shape))
-    scores = total / (len(draws) * remap_scale(model, population, spacing, cut))
+    scores = total / (int(n_draws) * remap_scale(model, population, spacing, cut))
     # a Gaussian draw and its negative are equally likely: the lowest score is minus the highest
     scores = 0.5 * (scores - scores[::-1])
     # strictly increasing (the table's ends may share a clipped probability)
     step = 1e-9 * max(float(np.ptp(scores)), 1.0)
     return (scores + step * (np.arange(scores.size) - 0.5 * (scores.size - 1))).tolist()
+
+
+def _draws(model, shape, spacing, rng, n_draws):
+    """``n_draws`` Gaussian draws of ``model``, at most :data:`_CHUNK_POINTS` points at a time
+    (all at once on maps of up to 65 536 points: one call, as the recorded runs drew them)."""
+    chunk = max(1, _CHUNK_POINTS // math.prod(shape))
+    for start in range(0, n_draws, chunk):
+        yield from model.simulate(shape, seed=rng, spacing=spacing,
+                                  n_samples=min(chunk, n_draws - start))
 
 
 def with_order_scores(model, z, spacing, *, seed=0):

@@ -15,6 +15,7 @@ from roughgp.surface_models import iaaft
 from roughgp.surface_models.chain import form_removed, marginal_of
 from roughgp.surface_models.fit import fit_psd_model
 from roughgp.surface_models.order_scores import (
+    draws_for,
     order_scores,
     scores_for_table,
     table_scores,
@@ -111,3 +112,32 @@ def test_a_model_file_keeps_its_keys_and_draws_the_same():
     assert again.marginal["order_scores"] == model.marginal["order_scores"]
     np.testing.assert_array_equal(again.simulate((32, 32), seed=5), model.simulate((32, 32),
                                                                                    seed=5))
+
+
+def test_larger_maps_average_fewer_draws_drawn_a_chunk_at_a_time():
+    assert draws_for(64 * 64) == draws_for(256 * 256) == 32
+    assert draws_for(512 * 512) == 8 == draws_for(4096 * 4096)
+    assert draws_for(300 * 300) == 24   # 24 draws of 90 000 points: two chunks (23 and 1)
+    z = TRUE.simulate((300, 300), seed=6)
+    keys = np.asarray(_plug_in(z).marginal["order_scores"])
+    assert np.all(np.diff(keys) > 0) and keys[-1] == pytest.approx(-keys[0])
+
+
+@pytest.mark.parametrize("kwargs, words", [
+    ({"seed": -1}, "seed must be an integer >= 0"),
+    ({"seed": 1.5}, "seed must be an integer"),
+    ({"n_draws": 1}, "n_draws must be an integer >= 2 and <= 1000"),
+    ({"n_draws": 10 ** 6}, "n_draws must be an integer >= 2 and <= 1000"),
+])
+def test_bad_arguments_are_refused_by_name(kwargs, words):
+    z = TRUE.simulate((16, 16), seed=7)
+    model = _plug_in(z)
+    with pytest.raises(ValueError, match=words):
+        order_scores(model, z, (1.0, 1.0), **kwargs)
+
+
+def test_a_model_without_iaaft_heights_has_no_order_scores():
+    z = TRUE.simulate((16, 16), seed=8)
+    assert with_order_scores(TRUE, z, (1.0, 1.0)) is TRUE
+    with pytest.raises(ValueError, match="key an IAAFT marginal"):
+        order_scores(TRUE, z, (1.0, 1.0))
