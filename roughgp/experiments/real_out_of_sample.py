@@ -65,9 +65,7 @@ MODELS = (
           "covariance (the fit's uncertainty carried)"),
     Model("auto", ("--model", "auto"),
           "the ladder's choice (fit ground --model auto): the rung by held-out prediction, "
-          "its heights by the out-of-sample check on the fitted half's own halves (its rows "
-          "were recorded before each IAAFT simulation's sample was its draw's own scores, "
-          "roughgp.surface_models.iaaft, on the windows of 2026-12-05)"),
+          "its heights by the out-of-sample check on the fitted half's own halves"),
     Model("sm-iaaft", ("--model", "sm", "--marginal", "iaaft"),
           "2-D spectral mixture, the measured heights (IAAFT)"),
     Model("psd-iaaft", ("--model", "psd", "--marginal", "iaaft"),
