@@ -160,7 +160,7 @@ def load_model(path, option="MODEL"):
     what is wrong with it."""
     from roughgp.surface_models.model import FittedModel, ModelFileError
     try:
-        return FittedModel.load(path)
+        model = FittedModel.load(path)
     except FileNotFoundError:
         raise UsageError(f"{option}: no such model file: {path}") from None
     except IsADirectoryError:
@@ -172,6 +172,12 @@ def load_model(path, option="MODEL"):
         raise UsageError(f"{option}: cannot read the model file {path}: {why}") from None
     except ModelFileError as exc:
         raise UsageError(f"{option}: {exc}") from None
+    if model.marginal_method == "iaaft" and "order_scores" not in model.marginal:
+        err(f"note: {option} {path}: its IAAFT heights are keyed at the Hazen positions of "
+            f"independent points (a file written before 2026-12-07): its draws' extremes and "
+            f"Sq fall short of the measured; fit it again to key them at the model's own order "
+            f"statistics (roughgp.surface_models.order_scores)")
+    return model
 
 
 def fitted_size(model, max_points: int) -> list | None:

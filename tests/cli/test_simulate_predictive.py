@@ -194,3 +194,18 @@ def test_a_kind_refuses_spurious(capsys, tmp_path):
     code, _, err = run(capsys, "simulate", "--spurious", "ground", "--shape", 8, 8,
                        "--out", tmp_path / "g.npy")
     assert code == 2 and "--spurious is for a draw from a model file" in err
+
+
+def test_a_model_file_without_order_scores_is_noted(capsys, fitted):
+    """A model file of IAAFT heights written before the order-score keys draws as it did, and
+    the command says why its draws fall short and what to do; a file with the keys, no note."""
+    import json
+    record = json.loads((fitted / "psd.json").read_text())
+    assert "order_scores" in record["marginal"]
+    del record["marginal"]["order_scores"]
+    (fitted / "old.json").write_text(json.dumps(record))
+    for name, noted in (("old.json", True), ("psd.json", False)):
+        code, _, err = run(capsys, "simulate", "--from", fitted / name, "--seed", 1,
+                           "--out", fitted / f"drawn-{name}.npy")
+        assert code == 0, err
+        assert ("keyed at the Hazen positions" in err and "fit it again" in err) == noted
