@@ -230,25 +230,29 @@ def flagged_output(args) -> tuple:
     return ("--flagged", flagged, "heights")
 
 
-def remove_spurious(args, heights, form="plane"):
+def remove_spurious(args, heights, form="plane", *, file=None, seed=None):
     """With --spurious: the heights of ``heights`` (a Measurement) with the spurious points set
     to NaN (:func:`roughgp.filling.spurious.detect_spurious`, after the F-operator
     ``form``) and the detection (for :func:`write_flagged`, once every other check has
-    passed), the summary printed; else the heights as read and None."""
+    passed), the summary printed; else the heights as read and None. ``file`` and ``seed``:
+    the file named in messages and the detection's seed (default ``args.file`` and
+    ``args.seed``; ``simulate --fitted`` gives its map and the fit's seed)."""
     if not args.spurious:
         return heights.z, None
     from roughgp.filling.spurious import detect_spurious
+    file = args.file if file is None else file
+    seed = getattr(args, "seed", 0) if seed is None else seed
     if heights.z.ndim != 2:
-        raise UsageError(f"--spurious: {args.file} holds a profile; the detection works on "
+        raise UsageError(f"--spurious: {file} holds a profile; the detection works on "
                          f"surfaces z[iy, ix]")
     from roughgp.cli.pace import Pace
     pace = Pace("--spurious rounds (at most; each fits the map and scores every point)",
                 "a smaller map or crop would")
     try:
-        found = detect_spurious(heights.z, spacing=heights.spacing, form=form,
-                                seed=getattr(args, "seed", 0), progress=pace)
+        found = detect_spurious(heights.z, spacing=heights.spacing, form=form, seed=seed,
+                                progress=pace)
     except ValueError as exc:
-        raise UsageError(f"--spurious: {args.file}: {exc}") from None
+        raise UsageError(f"--spurious: {file}: {exc}") from None
     removed = "removed (treated as unmeasured)" if found.count else "nothing removed"
     rounds = (f"{found.rounds} rounds" if found.converged else
               f"stopped at the cap of {found.rounds} rounds, the flagged set still growing")

@@ -45,10 +45,12 @@ def add_predictive_options(parser) -> None:
                              "the points the model was fitted on")
 
 
-def fitted_map(model, path, option="--fitted", spurious=False) -> tuple:
+def fitted_map(model, path, option="--fitted", args=None) -> tuple:
     """``(z, spacing)`` of the map (the model's part of it) that ``model`` was fitted on, read
-    from ``path``; a :class:`UsageError` where ``path`` is not that file. ``spurious``: its
-    spurious points left out first, as ``fit --spurious`` found them (:func:`_without_spurious`)."""
+    from ``path``; a :class:`UsageError` where ``path`` is not that file. With ``args`` whose
+    ``spurious`` is set (``simulate --spurious``): its spurious points left out first, as ``fit
+    --spurious`` found them (:func:`_without_spurious`)."""
+    spurious = bool(getattr(args, "spurious", False))
     from roughgp.api import read
     from roughgp.checking.held_out import Part
     from roughgp.common.digests import file_sha256
@@ -62,7 +64,7 @@ def fitted_map(model, path, option="--fitted", spurious=False) -> tuple:
     if heights.kind != "surface" or model.kind != "surface":
         raise UsageError(f"{option}: the tile bootstrap cuts a surface into tiles; {path} holds "
                          f"a {heights.kind} and the model is a {model.kind} model")
-    z = _without_spurious(model, heights, path) if spurious else heights.z
+    z = _without_spurious(model, heights, path, args) if spurious else heights.z
     record = data.get("part")
     if record is not None:
         try:
@@ -95,18 +97,15 @@ def fitted_map(model, path, option="--fitted", spurious=False) -> tuple:
     return z, spacing
 
 
-def _without_spurious(model, heights, path):
+def _without_spurious(model, heights, path, args):
     """The heights of the whole ``heights`` (read from ``path``) with their spurious points
     unmeasured, found as ``fit ground --spurious`` found them: on the whole file, with the
     model's F-operator and the seed the model file records for its fit
     (:func:`roughgp.cli.options.remove_spurious`)."""
-    import argparse
-
     from roughgp.cli.options import remove_spurious
     fit = model.fit if isinstance(model.fit, dict) else {}
-    seed = fit.get("seed", 0)
-    found = argparse.Namespace(spurious=True, file=str(path), seed=seed)
-    return remove_spurious(found, heights, model.cutoffs.get("form", "plane"))[0]
+    return remove_spurious(args, heights, model.cutoffs.get("form", "plane"), file=path,
+                           seed=fit.get("seed", 0))[0]
 
 
 def _refuse_predictive(args) -> None:
@@ -186,8 +185,8 @@ def run_model(args, check_shape, check_drawn, max_points) -> int:
     if len(spacing) == 2 and spacing[0] != spacing[1] and out.suffix.lower() == ".csv":
         raise UsageError("the model's spacing differs along y and x: a .csv stores one "
                          "spacing; write .x3p or .npy")
-    fitted = fitted_map(model, args.fitted, spurious=args.spurious) \
-        if args.predictive_from == "tiles" else None
+    fitted = fitted_map(model, args.fitted, args=args) if args.predictive_from == "tiles" \
+        else None
     seed = seed_or_fresh(args.seed)
     err(f"drawing {' x '.join(map(str, shape))} points from {args.model}: {model.describe()}")
     from roughgp.cli.pace import announce_long_draw

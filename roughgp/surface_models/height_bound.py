@@ -55,11 +55,8 @@ def extreme_height(model) -> tuple[float, str]:
     why = (f"|mean_um| {mean:.3g} um + {EXTREME_SCORE:g} sd of a variance of {variance:.3g} "
            f"um^2 ({scale} and noise_variance_um2)")
     if model.marginal_method == "iaaft":
-        from roughgp.surface_models.iaaft import values_at_scores
-        ends = values_at_scores(model.marginal["quantiles_um"],
-                                model.marginal["tail_probability"],
-                                [-EXTREME_SCORE, EXTREME_SCORE],
-                                model.marginal.get("order_scores"))
+        from roughgp.surface_models.iaaft import marginal_values
+        ends = marginal_values(model.marginal, [-EXTREME_SCORE, EXTREME_SCORE])
         return float(max(abs(ends[0]), abs(ends[1]))), "the marginal's quantiles_um"
     if model.marginal_method == "johnson" and variance > 0:
         from roughgp.non_gaussian.johnson import johnson_for

@@ -108,8 +108,8 @@ import scipy.special
 from roughgp.metrology.filters import ALPHA
 
 __all__ = ["N_QUANTILES", "ITERATIONS", "BAND_ROUNDS", "BAND_TOLERANCE", "quantile_table",
-           "quantile_values", "values_at_scores", "hazen_scores", "iaaft", "iaaft_above",
-           "band_rounds", "remap_sd"]
+           "quantile_values", "values_at_scores", "marginal_values", "hazen_scores", "iaaft",
+           "iaaft_above", "band_rounds", "remap_sd"]
 
 N_QUANTILES = 1001  #: quantiles stored: probabilities 0, 0.001, ..., 1 (the extremes included)
 ITERATIONS = 10  #: the most rounds of remap and spectrum (fewer when the ranks settle)
@@ -160,8 +160,8 @@ def values_at_scores(quantiles, tail_probability, t, keys=None):
     (:func:`quantile_table`): interpolated in the table, and beyond the measured extremes
     straight on in the normal score with the slope of the table's outermost unit. ``keys``:
     the increasing normal scores the quantiles sit at
-    (:func:`~roughgp.surface_models.order_scores.table_scores`); default the Hazen positions
-    of ``tail_probability``."""
+    (an IAAFT marginal's ``order_scores``, :mod:`roughgp.surface_models.order_scores`);
+    default the Hazen positions of ``tail_probability``."""
     q = np.asarray(quantiles, dtype=np.float64)
     t = np.asarray(t, dtype=np.float64)
     scores = hazen_scores(tail_probability, q.size) if keys is None else \
@@ -181,6 +181,14 @@ def _remap(x, values):
     out = np.empty(x.size)
     out[order] = values
     return out.reshape(x.shape), order
+
+
+def marginal_values(marginal, t):
+    """The heights at the normal scores ``t`` of an IAAFT ``marginal`` (a model's
+    ``marginal`` field): :func:`values_at_scores` of its quantiles, keyed at its
+    ``order_scores`` where it has them (a file written before 2026-12-07 has none)."""
+    return values_at_scores(marginal["quantiles_um"], marginal["tail_probability"], t,
+                            marginal.get("order_scores"))
 
 
 def iaaft(field, values, iterations=ITERATIONS):

@@ -438,9 +438,7 @@ class FittedModel:
         from roughgp.surface_models import iaaft
         scores = field / sd
         if self.marginal_method == "iaaft":
-            values = iaaft.values_at_scores(self.marginal["quantiles_um"],
-                                            self.marginal["tail_probability"], scores,
-                                            self.marginal.get("order_scores"))
+            values = iaaft.marginal_values(self.marginal, scores)
             iterations = int(self.marginal["iterations"])
         else:
             from roughgp.non_gaussian.johnson import johnson_for

@@ -50,7 +50,7 @@ import scipy.special
 from roughgp.surface_models.iaaft import hazen_scores, values_at_scores
 
 __all__ = ["N_DRAWS", "FEWEST_DRAWS", "draws_for", "order_scores", "with_order_scores",
-           "table_scores", "scores_for_table"]
+           "scores_for_table"]
 
 N_DRAWS = 32  #: Gaussian draws averaged on maps of up to 256 x 256 points (:func:`draws_for`)
 FEWEST_DRAWS = 8  #: ... and on the largest maps, whose quantiles vary less from draw to draw
@@ -64,15 +64,6 @@ def draws_for(points) -> int:
     return int(min(N_DRAWS, max(FEWEST_DRAWS, math.ceil(N_DRAWS * 65536 / max(points, 1)))))
 
 
-def table_scores(marginal) -> np.ndarray:
-    """The normal scores at which the IAAFT ``marginal``'s ``quantiles_um`` sit: its
-    ``order_scores`` when it has them, the Hazen positions of ``tail_probability`` otherwise
-    (module docstring)."""
-    if marginal.get("order_scores") is not None:
-        return np.asarray(marginal["order_scores"], dtype=np.float64)
-    return hazen_scores(marginal["tail_probability"], len(marginal["quantiles_um"]))
-
-
 def order_scores(model, z, spacing, *, n_draws=None, seed=0) -> list:
     """The ``order_scores`` of ``model``'s IAAFT marginal (module docstring), fitted to the map
     ``z`` (um, NaN where unmeasured) at ``spacing`` ``(dy, dx)``: the mean of ``n_draws``
@@ -81,7 +72,7 @@ def order_scores(model, z, spacing, *, n_draws=None, seed=0) -> list:
     over the remap's sd. ``seed``: an integer >= 0 (the same seed, the same scores). Strictly
     increasing."""
     from roughgp.common.checks import check_integer
-    from roughgp.surface_models.chain import apply_operators, form_removed
+    from roughgp.surface_models.chain import form_removed, rest_of_chain
     from roughgp.surface_models.measured_psd import remap_scale
     from roughgp.surface_models.psd_table import population_slices
     check_integer("seed", seed, 0, None)
@@ -100,12 +91,11 @@ def order_scores(model, z, spacing, *, n_draws=None, seed=0) -> list:
     rng = np.random.default_rng([int(seed), 0x05C0])
     total = np.zeros(p.size)
     for draw in _draws(gaussian, z.shape, spacing, rng, int(n_draws)):
-        draw = np.where(holes, np.nan, draw)
+        # the heights the table was made of (chain.marginal_of): after F alone, or the filtered
         if cut is None and model.stage != "filtered":
-            heights = form_removed(draw, spacing, model.cutoffs).sl
+            heights = form_removed(np.where(holes, np.nan, draw), spacing, model.cutoffs).sl
         else:
-            heights = apply_operators(draw, spacing, model.cutoffs,
-                                      simulated=model.stage == "filtered").sl
+            heights = rest_of_chain(model, draw, spacing, holes).sl
         h = heights[np.isfinite(heights)]
         lowest = 0.5 / h.size
         total += np.quantile(h - h.mean(), np.clip(p, lowest, 1.0 - lowest), method="hazen")
@@ -140,7 +130,7 @@ def with_order_scores(model, z, spacing, *, seed=0):
 
 
 def scores_for_table(marginal, tail_probability, n_quantiles):
-    """The order scores of ``marginal`` (:func:`table_scores`) at the probabilities of another
+    """The ``order_scores`` of ``marginal`` at the probabilities of another
     table of ``n_quantiles`` quantiles from ``tail_probability`` (a tile bootstrap's,
     :mod:`roughgp.checking.tile_bootstrap`): interpolated in the Hazen score, and straight on
     beyond as a table's heights are (:func:`~roughgp.surface_models.iaaft.values_at_scores`);
