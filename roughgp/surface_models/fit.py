@@ -53,7 +53,7 @@ from roughgp.inference.block_fit import BlockFit, fit_ground_to_valid_points
 from roughgp.inference.whittle_fit import WhittleFit, fit_whittle
 from roughgp.inference.fitting import MIN_POINTS, SpectralMixtureFit, fit_spectral_mixture
 from roughgp.metrology.filters import Texture
-from roughgp.surface_models import psd_table
+from roughgp.surface_models import psd_core, psd_table
 from roughgp.surface_models.chain import (
     described_data,
     form_removed_surface,
@@ -298,22 +298,25 @@ def fit_psd_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, axi
     arr, (dy, dx), texture, cutoffs, heights = form_removed_surface(
         z, spacing, form, s, l, degree, axis, marginal, name="measured-psd", min_side=8)
     measured = np.isfinite(heights)
-    table, f_min, f_max = psd_table.estimate(heights, (dy, dx))
+    table, f_min, f_max, core = psd_table.low_frequency_core(heights, (dy, dx))
     variance = float(np.var(heights[measured]))
-    table *= variance / psd_table.table_variance(table, f_min, f_max, (dy, dx), arr.shape)
+    table *= variance / psd_table.table_variance(table, f_min, f_max, (dy, dx), arr.shape,
+                                                 core=core)
     if cutoffs["s_um"] is not None or cutoffs["l_um"] is not None:
         band = texture.sl[np.isfinite(texture.sl)]
         table = psd_table.scale_to_band(table, f_min, f_max, (dy, dx), arr.shape, variance,
-                                        float(np.var(band)), cutoffs["s_um"], cutoffs["l_um"])
+                                        float(np.var(band)), cutoffs["s_um"], cutoffs["l_um"],
+                                        core=core)
     hyper = {"psd_um4": table.tolist(), "frequency_min_per_um": f_min,
              "frequency_max_per_um": f_max, "noise_variance_um2": 0.0,
-             "mean_um": float(np.mean(heights[measured]))}
+             "mean_um": float(np.mean(heights[measured])), **psd_core.to_hyperparameters(core)}
     described = described_data(data, arr.shape, (dy, dx), measured)
     how = {"method": (f"Tukey-windowed periodogram of the mean-filled form-removed heights, "
                       f"{psd_table.N_RADII} x {psd_table.N_ANGLES} log-polar bins of >= "
                       f"{psd_table.MIN_ORDINATES} ordinates brought to the bins' centres along "
-                      f"the local slope, scaled to the variance and the filtered band's "
-                      f"(roughgp.surface_models.psd_table)"),
+                      f"the local slope, the ordinates within {psd_core.CORE_STEPS} frequency "
+                      f"steps kept as measured, scaled to the variance and the filtered band's "
+                      f"(roughgp.surface_models.psd_table, psd_core)"),
            "seed": seed, "seconds": round(time.perf_counter() - start, 2)}
     model = FittedModel("measured-psd", hyper, (dy, dx), marginal_of(heights, marginal, texture.sl,
                                                            cutoffs["l_um"]),

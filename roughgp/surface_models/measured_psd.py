@@ -14,7 +14,8 @@ model is of stage ``"form-removed"`` and its simulations go through the S- and L
 measurement did), estimates the PSD of the form-removed heights with their holes, smooths it
 into a 40 x 36 log-polar table and scales the table so that its variance over the measured band
 equals that of the measured heights (the variance is conserved), and its variance through the
-measurement's S- and L-filters that of the filtered heights;
+measurement's S- and L-filters that of the filtered heights; the lowest frequencies and the
+two frequency axes are kept ordinate by ordinate (:mod:`roughgp.surface_models.psd_core`);
 :mod:`roughgp.surface_models.psd_table` says how, and how fields are drawn from it on any shape
 and spacing. This module holds the model's covariance and draws, which
 :class:`~roughgp.surface_models.model.FittedModel` uses. The model's white noise
@@ -28,16 +29,18 @@ import math
 import numpy as np
 import scipy.ndimage
 
-from roughgp.surface_models import psd_table
+from roughgp.surface_models import psd_core, psd_table
 
 __all__ = ["TabulatedACVF", "draw_psd_model", "band_variance", "fitted_shape", "passed_sd",
            "remap_scale"]
 
 
 def _table(model):
+    """``(table, f_min, f_max, core)`` of ``model`` (``core`` None in a file written before
+    the core, :mod:`~roughgp.surface_models.psd_core`)."""
     hp = model.hyperparameters
     return (np.asarray(hp["psd_um4"], dtype=np.float64), float(hp["frequency_min_per_um"]),
-            float(hp["frequency_max_per_um"]))
+            float(hp["frequency_max_per_um"]), psd_core.from_hyperparameters(hp))
 
 
 def fitted_shape(model):
@@ -47,15 +50,16 @@ def fitted_shape(model):
     shape = model.recorded_shape
     if shape is not None:
         return shape
-    table, f_min, f_max = _table(model)
+    f_min = _table(model)[1]
     return tuple(max(2, round(1.0 / (f_min * d))) for d in model.spacing)
 
 
 def band_variance(model) -> float:
     """The variance of ``model``'s PSD over the measured band, on the DFT grid of the field it
     was fitted on (um^2)."""
-    table, f_min, f_max = _table(model)
-    return psd_table.table_variance(table, f_min, f_max, model.spacing, fitted_shape(model))
+    table, f_min, f_max, core = _table(model)
+    return psd_table.table_variance(table, f_min, f_max, model.spacing, fitted_shape(model),
+                                    core=core)
 
 
 def passed_sd(model, shape, spacing, l_um) -> float:
@@ -68,9 +72,10 @@ def passed_sd(model, shape, spacing, l_um) -> float:
     clipped at 0, leaks a share of the long waves into the band, and a real surface's long
     waves hold hundreds of times the band's variance (0.0019 against 0.0015 um on the fitted
     half of data/mnt-2-crop.x3p, whose simulations' Sq then fell to 0.72 of the measured)."""
-    table, f_min, f_max = _table(model)
+    table, f_min, f_max, core = _table(model)
     torus = psd_table.torus_shape(shape, spacing, f_min)
-    return math.sqrt(psd_table.table_variance(table, f_min, f_max, spacing, torus, l_um=l_um))
+    return math.sqrt(psd_table.table_variance(table, f_min, f_max, spacing, torus, l_um=l_um,
+                                              core=core))
 
 
 def remap_scale(model, shape, spacing, l_um=None) -> float:
@@ -88,10 +93,11 @@ def draw_psd_model(model, shape, spacing, rng, count, transform=None):
     """``count`` Gaussian fields of ``shape`` at ``spacing`` from ``model``'s PSD
     (:func:`~roughgp.surface_models.psd_table.synthesize`), plus its mean; ``transform`` (a
     rank remap) applied to each torus field, mean included, before the crop."""
-    table, f_min, f_max = _table(model)
+    table, f_min, f_max, core = _table(model)
     mean = float(model.hyperparameters.get("mean_um", 0.0))
     shifted = None if transform is None else (lambda field: transform(field + mean) - mean)
-    fields = psd_table.synthesize(table, f_min, f_max, shape, spacing, rng, count, shifted)
+    fields = psd_table.synthesize(table, f_min, f_max, shape, spacing, rng, count, shifted,
+                                  core=core)
     return fields + mean
 
 
@@ -108,9 +114,9 @@ class TabulatedACVF:
 
     def _grid_for(self, reach):
         if self._grid is None or any(r >= n // 2 for r, n in zip(reach, self._grid.shape)):
-            table, f_min, f_max = _table(self.model)
+            table, f_min, f_max, core = _table(self.model)
             field = tuple(max(int(r) + 2, n) for r, n in zip(reach, fitted_shape(self.model)))
-            self._grid = psd_table.acvf_grid(table, f_min, f_max, field, self.spacing)
+            self._grid = psd_table.acvf_grid(table, f_min, f_max, field, self.spacing, core)
         return self._grid
 
     def __call__(self, lags):

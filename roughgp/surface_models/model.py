@@ -229,7 +229,8 @@ class FittedModel:
         hp = self.hyperparameters
         if self.equation == "measured-psd":
             rows = hp["psd_um4"]
-            text = (f"measured PSD ({len(rows)} x {len(rows[0])} log-polar table, "
+            text = (f"measured PSD ({len(rows)} x {len(rows[0])} log-polar table"
+                    f"{', lowest frequencies and axes as measured' if 'core_ratio' in hp else ''}, "
                     f"{hp['frequency_min_per_um']:.4g} to {hp['frequency_max_per_um']:.4g} 1/um), "
                     f"variance {self.latent_variance():.4g} um^2")
         elif self.equation == "sm2d":

@@ -52,7 +52,11 @@ variant. This module holds the three steps:
   of 30 synthetic maps in sample, radial first on 7). A bin with no ordinate takes the value
   interpolated along its ring (periodic in angle), or, for a ring with none, from the
   neighbouring rings.
-  40 x 36 numbers in the file, whatever the map's size.
+  40 x 36 numbers in the file, whatever the map's size. A fit keeps besides, ordinate by
+  ordinate, the lowest frequencies and the two frequency axes
+  (:func:`low_frequency_core`, :mod:`roughgp.surface_models.psd_core` says why: the widened
+  low rings are isotropic, and a lay along a scan axis is a line on an axis that a 5-degree
+  bin spreads); its table is then made without the axes' ordinates.
 * **Draw** (:func:`psd_at`, :func:`synthesize`): the table is interpolated bilinearly in
   (log frequency, angle) on the log of the PSD. The field is drawn by spectral synthesis on a
   torus of about twice the field's size along each axis (:func:`torus_shape`) and cropped, so
@@ -78,10 +82,11 @@ import scipy.fft
 import scipy.signal.windows
 
 from roughgp.metrology.filters import transmission
+from roughgp.surface_models import psd_core
 
 __all__ = ["N_RADII", "N_ANGLES", "TAPER", "MIN_ORDINATES", "LEAK_RATIO", "SLOPE_RANGE",
-           "estimate", "periodogram", "log_polar_table", "psd_at", "torus_shape",
-           "MAX_TORUS_POINTS", "synthesize", "population_slices", "acvf_grid",
+           "estimate", "low_frequency_core", "periodogram", "log_polar_table", "psd_at",
+           "torus_shape", "MAX_TORUS_POINTS", "synthesize", "population_slices", "acvf_grid",
            "table_variance", "band_transmission", "scale_to_band"]
 
 N_RADII = 40  #: logarithmic radial bins of the stored PSD
@@ -112,11 +117,50 @@ def estimate(h, spacing):
     unmeasured): in each bin the mean of the plain and the prewhitened estimates, or the lower
     where one exceeds the other :data:`LEAK_RATIO` times (:func:`periodogram`,
     :func:`log_polar_table`; module docstring)."""
-    plain = log_polar_table(*periodogram(h, spacing, prewhiten=False))
-    whitened = log_polar_table(*periodogram(h, spacing))
-    a, b = plain[0], whitened[0]
+    qy, qx, p = periodogram(h, spacing, prewhiten=False)
+    (a, f_min, f_max), (b, _, _) = (log_polar_table(qy, qx, p),
+                                    log_polar_table(*periodogram(h, spacing)))
+    return _combined(a, b), f_min, f_max
+
+
+def _combined(a, b):
+    """The mean of the plain and prewhitened estimates ``a``, ``b``, or the lower where one
+    exceeds the other :data:`LEAK_RATIO` times."""
     leak = (a > LEAK_RATIO * b) | (b > LEAK_RATIO * a)
-    return np.where(leak, np.minimum(a, b), 0.5 * (a + b)), plain[1], plain[2]
+    return np.where(leak, np.minimum(a, b), 0.5 * (a + b))
+
+
+def low_frequency_core(h, spacing):
+    """``(table, f_min, f_max, core)``: :func:`estimate`'s table made without the ordinates
+    on the two frequency axes, and its :class:`~roughgp.surface_models.psd_core.PsdCore`: the
+    periodogram over the table at the ordinates within the core's radius and along the two
+    axes (each ordinate the mean of the plain and the prewhitened, or the lower estimate's
+    where the table's bins took the lower; :mod:`~roughgp.surface_models.psd_core` says
+    why)."""
+    qy, qx, p = periodogram(h, spacing, prewhiten=False)
+    w = periodogram(h, spacing)[2]
+    axes = (qy[:, None] == 0) | (qx[None, :] == 0)
+    (a, f_min, f_max), (b, _, _) = (log_polar_table(qy, qx, np.where(axes, np.nan, c))
+                                    for c in (p, w))
+    table = _combined(a, b)
+    ky, kx, radius, step = psd_core.core_indices(np.shape(h), spacing)
+
+    def ratios(rows, cols):
+        y, x = qy[rows], qx[cols]
+        at_a, at_b = psd_at(a, f_min, f_max, y, x), psd_at(b, f_min, f_max, y, x)
+        leak = (at_a > LEAK_RATIO * at_b) | (at_b > LEAK_RATIO * at_a)
+        pw = p[np.ix_(rows, cols)], w[np.ix_(rows, cols)]
+        ordinate = np.where(leak, np.where(at_a < at_b, *pw), 0.5 * (pw[0] + pw[1]))
+        back = psd_at(table, f_min, f_max, y, x)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            out = np.clip(np.where(back > 0, ordinate / back, 1.0), *psd_core.RATIO_RANGE)
+        out[(y == 0)[:, None] & (x == 0)[None, :]] = 1.0
+        return out
+    (ny, nx), ay, ax = np.shape(h), *psd_core.axis_halves(np.shape(h))
+    disc = ratios(np.arange(-ky, ky + 1) % ny, np.arange(-kx, kx + 1) % nx)
+    along_x = ratios(np.array([0]), np.arange(-ax, ax + 1) % nx)[0]
+    along_y = ratios(np.arange(-ay, ay + 1) % ny, np.array([0]))[:, 0]
+    return table, f_min, f_max, psd_core.PsdCore(disc, step, radius, along_x, along_y)
 
 
 def periodogram(h, spacing, prewhiten=True):
@@ -154,12 +198,12 @@ def _polar(qy, qx):
 def log_polar_table(qy, qx, c, n_radii=N_RADII, n_angles=N_ANGLES):
     """``(table, f_min, f_max)``: the periodogram ``c`` on ``(qy, qx)`` averaged in
     ``n_radii`` x ``n_angles`` log-polar bins from the fundamental ``f_min`` to the corner
-    ``f_max`` (1/um), each ordinate first brought to its bin's centre along the spectrum's
-    local slope (:func:`_local_slopes`); empty bins interpolated (module docstring)."""
+    ``f_max`` (1/um; NaN ordinates left out), each ordinate first brought to its bin's centre
+    along the spectrum's local slope (:func:`_local_slopes`); empty bins interpolated (module docstring)."""
     r, theta = _polar(qy, qx)
-    keep = r > 0
+    f_min, f_max = float(r[r > 0].min()), float(r.max())
+    keep = (r > 0) & np.isfinite(c)   # an ordinate left out is NaN
     r, theta, c = r[keep], theta[keep], np.asarray(c)[keep]
-    f_min, f_max = float(r.min()), float(r.max())
     step = math.log(f_max / f_min) / n_radii
     position = (np.log(r) - math.log(f_min)) / step     # in bins; bin i spans [i, i + 1)
     ir = np.clip(position.astype(int), 0, n_radii - 1)
@@ -271,10 +315,11 @@ def _fill_empty(table):
     return table
 
 
-def psd_at(table, f_min, f_max, qy, qx):
+def psd_at(table, f_min, f_max, qy, qx, core=None):
     """The stored PSD at the frequencies ``qy`` x ``qx`` (1-D axes, 1/um): bilinear in (log
     frequency, angle) on the log PSD; the lowest ring below the band, 0 above ``f_max`` and
-    at zero frequency (module docstring)."""
+    at zero frequency (module docstring); times the ``core``'s factor where one is given
+    (:func:`roughgp.surface_models.psd_core.factor`)."""
     table = np.asarray(table, dtype=np.float64)
     n_radii, n_angles = table.shape
     log_table = np.log(np.maximum(table, _FLOOR * table.max()))
@@ -293,6 +338,8 @@ def psd_at(table, f_min, f_max, qy, qx):
     value = ((1 - a) * ((1 - b) * log_table[i0, j0] + b * log_table[i0, j1])
              + a * ((1 - b) * log_table[i1, j0] + b * log_table[i1, j1]))
     out = np.exp(value)
+    if core is not None:
+        out *= psd_core.factor(core, qy, qx)
     out[(r == 0) | (r > f_max * (1 + 1e-9))] = 0.0
     return out
 
@@ -316,19 +363,21 @@ def torus_shape(shape, spacing, f_min):
     return torus
 
 
-def _amplitude(table, f_min, f_max, torus, spacing):
+def _amplitude(table, f_min, f_max, torus, spacing, core=None):
     (my, mx), (dy, dx) = torus, spacing
-    c = psd_at(table, f_min, f_max, scipy.fft.fftfreq(my, dy), scipy.fft.rfftfreq(mx, dx))
+    c = psd_at(table, f_min, f_max, scipy.fft.fftfreq(my, dy), scipy.fft.rfftfreq(mx, dx), core)
     return np.sqrt(c / (dy * dx))
 
 
-def synthesize(table, f_min, f_max, shape, spacing, rng, n_samples=1, transform=None):
+def synthesize(table, f_min, f_max, shape, spacing, rng, n_samples=1, transform=None,
+               core=None):
     """``n_samples`` fields of ``shape`` drawn from the PSD table by spectral synthesis on a
     torus (:func:`torus_shape`), cropped: Gaussian, mean 0, the torus's variance
     :math:`\\sum C \\Delta q` (module docstring); ``transform``, when given, is applied to
-    each torus field before the crop. Returns ``(n_samples, ny, nx)``."""
+    each torus field before the crop; ``core``: the lowest frequencies' ordinates
+    (:mod:`~roughgp.surface_models.psd_core`). Returns ``(n_samples, ny, nx)``."""
     torus = torus_shape(shape, spacing, f_min)
-    amplitude = _amplitude(table, f_min, f_max, torus, spacing)
+    amplitude = _amplitude(table, f_min, f_max, torus, spacing, core)
     out = np.empty((n_samples, *shape))
     for k in range(n_samples):
         white = rng.standard_normal(torus)
@@ -346,23 +395,23 @@ def population_slices(shape):
     return tuple(slice(0, math.ceil(math.sqrt(2.0) * n)) for n in shape)
 
 
-def acvf_grid(table, f_min, f_max, shape, spacing):
+def acvf_grid(table, f_min, f_max, shape, spacing, core=None):
     """The ACVF of the synthesised field at the lags of a grid: ``acvf[jy, jx]`` for lags
     ``(jy dy, jx dx)`` (FFT order, negative lags wrapped) on the torus of a field of
     ``shape`` (:func:`torus_shape`), um^2: the inverse DFT of the PSD."""
     torus = torus_shape(shape, spacing, f_min)
-    amplitude = _amplitude(table, f_min, f_max, torus, spacing)
+    amplitude = _amplitude(table, f_min, f_max, torus, spacing, core)
     return scipy.fft.irfft2(amplitude ** 2, s=torus)
 
 
-def table_variance(table, f_min, f_max, spacing, shape, s_um=None, l_um=None):
+def table_variance(table, f_min, f_max, spacing, shape, s_um=None, l_um=None, core=None):
     """The variance of the table over the measured band on the DFT grid of a field of
     ``shape``: :math:`\\sum C \\Delta q` over the frequencies from ``f_min`` on (um^2); with
     ``s_um`` or ``l_um``, what the Gaussian S- and L-filters pass of it,
     :math:`\\sum C H \\Delta q` (:func:`band_transmission`)."""
     (ny, nx), (dy, dx) = shape, spacing
     qy, qx = scipy.fft.fftfreq(ny, dy), scipy.fft.fftfreq(nx, dx)
-    c = psd_at(table, f_min, f_max, qy, qx)
+    c = psd_at(table, f_min, f_max, qy, qx, core)
     if s_um is not None or l_um is not None:
         c = c * band_transmission(_polar(qy, qx)[0], s_um, l_um)
     return float(c.sum() / (ny * dy * nx * dx))
@@ -384,7 +433,7 @@ def band_transmission(q, s_um=None, l_um=None):
 
 
 def scale_to_band(table, f_min, f_max, spacing, shape, variance, band_variance, s_um=None,
-                  l_um=None, rounds=2):
+                  l_um=None, rounds=2, core=None):
     r"""The table scaled ring by ring, :math:`C'(\mathbf q) = C(\mathbf q)\,(a H(q) + b (1 -
     H(q)))` with :math:`H` the filters' power transmission (:func:`band_transmission`), so
     that on the DFT grid of a field of ``shape`` its variance is ``variance`` and its variance
@@ -401,7 +450,7 @@ def scale_to_band(table, f_min, f_max, spacing, shape, variance, band_variance, 
     h_rings = band_transmission(centres, s_um, l_um)[:, None]
     table = np.asarray(table, dtype=np.float64)
     for _ in range(rounds):
-        c = psd_at(table, f_min, f_max, qy, qx) / (ny * dy * nx * dx)
+        c = psd_at(table, f_min, f_max, qy, qx, core) / (ny * dy * nx * dx)
         system = np.array([[np.sum(c * h * h), np.sum(c * h * (1 - h))],
                            [np.sum(c * h), np.sum(c * (1 - h))]])
         try:

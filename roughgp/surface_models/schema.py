@@ -1,19 +1,19 @@
 """The model file's schema, validated once (beyond the paper).
 
-Every command that reads a model file (``roughgp simulate --from``, ``check``, ``fill
---model``) reads it through :meth:`roughgp.surface_models.model.FittedModel.load`, which
-calls :func:`validate_record` on the parsed JSON before anything is built from it, and every
-:class:`~roughgp.surface_models.model.FittedModel` checks its fields with
+Every command that reads a model file (``simulate --from``, ``check``, ``fill --model``)
+reads it through :meth:`roughgp.surface_models.model.FittedModel.load`, which calls
+:func:`validate_record` on the parsed JSON first; every FittedModel checks its fields with
 :func:`check_fields`. A file is refused, with a message that names the field and the allowed
 range, when it is larger than :data:`MAX_FILE_BYTES`, nested deeper than :data:`MAX_DEPTH`, of
 another format or version, lacks a required field or has one this version does not know, or
-holds a value of the wrong type (``true`` is not a number, ``"25"`` is not a length) or out of
-its range (:data:`RANGES`).
+holds a value of the wrong type (``true`` is not a number) or out of its range (:data:`RANGES`).
 """
 
 from __future__ import annotations
 
 import math
+
+from roughgp.surface_models import psd_core
 
 __all__ = ["ModelFileError", "MODEL_FORMAT", "MODEL_VERSIONS", "STAGES", "EQUATIONS", "RANGES",
            "MAX_DEPTH", "MAX_FILE_BYTES", "MAX_MIXTURES", "MAX_SM2D_COMPONENTS",
@@ -180,11 +180,8 @@ def _numbers(name, values, count=None):
 def _depth(value, level=1):
     if level > MAX_DEPTH:
         raise ModelFileError(f"the model file is nested deeper than {MAX_DEPTH} levels")
-    if isinstance(value, dict):
-        for v in value.values():
-            _depth(v, level + 1)
-    elif isinstance(value, list):
-        for v in value:
+    if isinstance(value, (dict, list)):
+        for v in (value.values() if isinstance(value, dict) else value):
             _depth(v, level + 1)
 
 
@@ -200,7 +197,8 @@ def check_fields(equation, hyperparameters, spacing, marginal, cutoffs, stage, o
     missing = [n for n in names if n not in hyperparameters]
     if missing:
         raise ModelFileError(f"the {equation} model lacks {', '.join(missing)}")
-    extra = sorted(set(hyperparameters) - set(names) - set(OPTIONAL_HYPERPARAMETERS))
+    extra = sorted(set(hyperparameters) - set(names) - set(OPTIONAL_HYPERPARAMETERS)
+                   - set(psd_core.KEYS if equation == "measured-psd" else ()))
     if extra:
         raise ModelFileError(f"the {equation} model has unknown hyperparameters "
                              f"{', '.join(map(str, extra))} (it takes {', '.join(names)})")
@@ -328,6 +326,7 @@ def _check_psd(hp):
     if not low < high:
         raise ModelFileError(f"frequency_min_per_um must be smaller than frequency_max_per_um, "
                              f"got {low:g} and {high:g}")
+    psd_core.check_core(hp, ModelFileError)
 
 
 def _check_field(hp, spacing):
