@@ -25,14 +25,15 @@ adds its noise to the map's, which the core copies): 1.1 to 1.3 times on the map
 
 The core holds, on the fitted grid's frequencies within :data:`CORE_STEPS` steps of the coarser
 axis (its ``radius``) and along the two axes, each periodogram ordinate divided by the table's
-value there (``ratio``, ``axis_x``, ``axis_y``; the table made without the axes' ordinates, so
-that a line's power is not counted twice): the table's scalings (to the measured variance, to
-the filtered band, a tile's variance in the tile bootstrap) then apply to it as to the table.
-:func:`factor` reads the ratio at any frequency, bilinear between the fitted grid's ordinates
-(linear in the PSD, not its log: a single ordinate's error is exponential, and a geometric mean
-of two is biased low), tapered over the outer quarter of the radius into the factor outside it:
-the axes' ratios, read linearly along each axis and fading to 1 one step off it, and 1
-elsewhere. The zero frequency's ratio is 1.
+value there (``ratio``, ``axis_x``, ``axis_y``; the table made with each axis ordinate replaced
+by the mean of its two neighbours across the axis, so that a line's power is not counted twice):
+the table's scalings (to the measured variance, to the filtered band, a tile's variance in the
+tile bootstrap) then apply to it as to the table. :func:`factor` reads the ratio at any
+frequency, bilinear between the fitted grid's ordinates (linear in the PSD, not its log: a
+single ordinate's error is exponential, and a geometric mean of two is biased low), tapered over
+the outer quarter of the radius into the factor outside it: the axes' ratios, read linearly
+along each axis and fading to 1 one step off it, and 1 elsewhere. The zero frequency's ratio is
+1.
 
 In a model file the core is five optional hyperparameters of a measured-psd model
 (:data:`KEYS`); a file without them draws from the table alone, as before 2026-12-07.

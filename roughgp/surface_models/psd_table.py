@@ -56,7 +56,8 @@ variant. This module holds the three steps:
   ordinate, the lowest frequencies and the two frequency axes
   (:func:`low_frequency_core`, :mod:`roughgp.surface_models.psd_core` says why: the widened
   low rings are isotropic, and a lay along a scan axis is a line on an axis that a 5-degree
-  bin spreads); its table is then made without the axes' ordinates.
+  bin spreads); its table is then made with each axis ordinate replaced by the mean of its
+  neighbours across the axis.
 * **Draw** (:func:`psd_at`, :func:`synthesize`): the table is interpolated bilinearly in
   (log frequency, angle) on the log of the PSD. The field is drawn by spectral synthesis on a
   torus of about twice the field's size along each axis (:func:`torus_shape`) and cropped, so
@@ -131,17 +132,21 @@ def _combined(a, b):
 
 
 def low_frequency_core(h, spacing):
-    """``(table, f_min, f_max, core)``: :func:`estimate`'s table made without the ordinates
-    on the two frequency axes, and its :class:`~roughgp.surface_models.psd_core.PsdCore`: the
+    """``(table, f_min, f_max, core)``: :func:`estimate`'s table made with the ordinates on
+    the two frequency axes replaced by their neighbours across the axis (:func:`_off_axes`), and
+    its :class:`~roughgp.surface_models.psd_core.PsdCore`: the
     periodogram over the table at the ordinates within the core's radius and along the two
     axes (each ordinate the mean of the plain and the prewhitened, or the lower estimate's
-    where the table's bins took the lower; :mod:`~roughgp.surface_models.psd_core` says
-    why)."""
+    where the table's bins took the lower, the prewhitened on an axis from the differences
+    along it alone; :mod:`~roughgp.surface_models.psd_core` says why)."""
     qy, qx, p = periodogram(h, spacing, prewhiten=False)
     w = periodogram(h, spacing)[2]
-    axes = (qy[:, None] == 0) | (qx[None, :] == 0)
-    (a, f_min, f_max), (b, _, _) = (log_polar_table(qy, qx, np.where(axes, np.nan, c))
-                                    for c in (p, w))
+    # on an axis the differences across it transmit nothing and only leak: each axis from
+    # the differences along it (at qy = 0 those along x)
+    (p_x, gain_x), (p_y, gain_y) = _differenced(np.asarray(h, dtype=np.float64), spacing, qy, qx)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        w[0, 1:], w[1:, 0] = p_x[0, 1:] / gain_x[0, 1:], p_y[1:, 0] / gain_y[1:, 0]
+    (a, f_min, f_max), (b, _, _) = (log_polar_table(qy, qx, _off_axes(c)) for c in (p, w))
     table = _combined(a, b)
     ky, kx, radius, step = psd_core.core_indices(np.shape(h), spacing)
 
@@ -163,6 +168,15 @@ def low_frequency_core(h, spacing):
     return table, f_min, f_max, psd_core.PsdCore(disc, step, radius, along_x, along_y)
 
 
+def _off_axes(c):
+    """The periodogram ``c`` (FFT order) with each ordinate on a frequency axis replaced by the
+    mean of its two neighbours across the axis: what the table holds there is then the
+    spectrum beside a line, and the line itself is the core's (:func:`low_frequency_core`)."""
+    c = np.array(c, dtype=np.float64)
+    c[0, :], c[:, 0] = 0.5 * (c[1, :] + c[-1, :]), 0.5 * (c[:, 1] + c[:, -1])
+    return c
+
+
 def periodogram(h, spacing, prewhiten=True):
     r"""``(qy, qx, C)``: the prewhitened, windowed 2-D periodogram of heights ``h`` (NaN where
     unmeasured) on the DFT's frequencies (1/um, FFT order) and its values (um^4; module
@@ -179,15 +193,23 @@ def periodogram(h, spacing, prewhiten=True):
     qy, qx = scipy.fft.fftfreq(ny, dy), scipy.fft.fftfreq(nx, dx)
     if not prewhiten:
         return qy, qx, _windowed_periodogram(h, spacing)
-    along_x = np.pad(np.diff(h, axis=1), ((0, 0), (0, 1)), constant_values=np.nan)
-    along_y = np.pad(np.diff(h, axis=0), ((0, 1), (0, 0)), constant_values=np.nan)
-    gain_x = np.broadcast_to(4 * np.sin(np.pi * qx * dx)[None, :] ** 2, h.shape)
-    gain_y = np.broadcast_to(4 * np.sin(np.pi * qy * dy)[:, None] ** 2, h.shape)
-    c = _windowed_periodogram(along_x, spacing) + _windowed_periodogram(along_y, spacing)
+    (p_x, gain_x), (p_y, gain_y) = _differenced(h, spacing, qy, qx)
     gain = gain_x + gain_y
     with np.errstate(invalid="ignore", divide="ignore"):
-        c = np.where(gain > 0, c / gain, 0.0)
+        c = np.where(gain > 0, (p_x + p_y) / gain, 0.0)
     return qy, qx, c
+
+
+def _differenced(h, spacing, qy, qx):
+    """``((P_x, G_x), (P_y, G_y))``: the windowed periodograms of the differences of ``h``
+    along x and along y and their transmissions :math:`4 \sin^2(\pi q \Delta)`."""
+    along_x = np.pad(np.diff(h, axis=1), ((0, 0), (0, 1)), constant_values=np.nan)
+    along_y = np.pad(np.diff(h, axis=0), ((0, 1), (0, 0)), constant_values=np.nan)
+    (dy, dx), shape = spacing, np.shape(h)
+    gain_x = np.broadcast_to(4 * np.sin(np.pi * qx * dx)[None, :] ** 2, shape)
+    gain_y = np.broadcast_to(4 * np.sin(np.pi * qy * dy)[:, None] ** 2, shape)
+    return ((_windowed_periodogram(along_x, spacing), gain_x),
+            (_windowed_periodogram(along_y, spacing), gain_y))
 
 
 def _polar(qy, qx):
@@ -199,7 +221,8 @@ def log_polar_table(qy, qx, c, n_radii=N_RADII, n_angles=N_ANGLES):
     """``(table, f_min, f_max)``: the periodogram ``c`` on ``(qy, qx)`` averaged in
     ``n_radii`` x ``n_angles`` log-polar bins from the fundamental ``f_min`` to the corner
     ``f_max`` (1/um; NaN ordinates left out), each ordinate first brought to its bin's centre
-    along the spectrum's local slope (:func:`_local_slopes`); empty bins interpolated (module docstring)."""
+    along the spectrum's local slope (:func:`_local_slopes`); empty bins interpolated (module
+    docstring)."""
     r, theta = _polar(qy, qx)
     f_min, f_max = float(r[r > 0].min()), float(r.max())
     keep = (r > 0) & np.isfinite(c)   # an ordinate left out is NaN
@@ -374,8 +397,8 @@ def synthesize(table, f_min, f_max, shape, spacing, rng, n_samples=1, transform=
     """``n_samples`` fields of ``shape`` drawn from the PSD table by spectral synthesis on a
     torus (:func:`torus_shape`), cropped: Gaussian, mean 0, the torus's variance
     :math:`\\sum C \\Delta q` (module docstring); ``transform``, when given, is applied to
-    each torus field before the crop; ``core``: the lowest frequencies' ordinates
-    (:mod:`~roughgp.surface_models.psd_core`). Returns ``(n_samples, ny, nx)``."""
+    each torus field before the crop; ``core``: the ordinates kept of the lowest frequencies
+    and the axes (:mod:`~roughgp.surface_models.psd_core`). Returns ``(n_samples, ny, nx)``."""
     torus = torus_shape(shape, spacing, f_min)
     amplitude = _amplitude(table, f_min, f_max, torus, spacing, core)
     out = np.empty((n_samples, *shape))
@@ -398,7 +421,8 @@ def population_slices(shape):
 def acvf_grid(table, f_min, f_max, shape, spacing, core=None):
     """The ACVF of the synthesised field at the lags of a grid: ``acvf[jy, jx]`` for lags
     ``(jy dy, jx dx)`` (FFT order, negative lags wrapped) on the torus of a field of
-    ``shape`` (:func:`torus_shape`), um^2: the inverse DFT of the PSD."""
+    ``shape`` (:func:`torus_shape`), um^2: the inverse DFT of the PSD (``core`` as in
+    :func:`psd_at`)."""
     torus = torus_shape(shape, spacing, f_min)
     amplitude = _amplitude(table, f_min, f_max, torus, spacing, core)
     return scipy.fft.irfft2(amplitude ** 2, s=torus)
@@ -408,7 +432,7 @@ def table_variance(table, f_min, f_max, spacing, shape, s_um=None, l_um=None, co
     """The variance of the table over the measured band on the DFT grid of a field of
     ``shape``: :math:`\\sum C \\Delta q` over the frequencies from ``f_min`` on (um^2); with
     ``s_um`` or ``l_um``, what the Gaussian S- and L-filters pass of it,
-    :math:`\\sum C H \\Delta q` (:func:`band_transmission`)."""
+    :math:`\\sum C H \\Delta q` (:func:`band_transmission`); ``core`` as in :func:`psd_at`."""
     (ny, nx), (dy, dx) = shape, spacing
     qy, qx = scipy.fft.fftfreq(ny, dy), scipy.fft.fftfreq(nx, dx)
     c = psd_at(table, f_min, f_max, qy, qx, core)
@@ -440,7 +464,8 @@ def scale_to_band(table, f_min, f_max, spacing, shape, variance, band_variance, 
     through the filters ``band_variance`` (um^2). A real surface holds most of its variance at
     the longest wavelengths: scaled to the total alone, a table whose long waves are a few per
     cent off moves the filtered band by far more (module docstring). Where no positive
-    :math:`a, b` solve both, the table is scaled to the band's variance alone."""
+    :math:`a, b` solve both, the table is scaled to the band's variance alone. ``core`` as in
+    :func:`psd_at` (its ratios scale with the table)."""
     (ny, nx), (dy, dx) = shape, spacing
     qy, qx = scipy.fft.fftfreq(ny, dy), scipy.fft.fftfreq(nx, dx)
     r, _ = _polar(qy, qx)
