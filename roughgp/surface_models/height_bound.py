@@ -29,7 +29,8 @@ EXTREME_SCORE = 6.0
 HEIGHT_LIMIT_UM = BOUNDS["height"]
 #: the field of each equation that sets its heights' scale
 _SCALE_FIELD = {"eq18": "variance_um2", "eq18-matern": "variance_um2", "sm2d": "weights_um2",
-                "eq21": "weights_um2", "measured-psd": "psd_um4", "eq18-field": "variance_um2",
+                "eq21": "weights_um2", "measured-psd": "psd_um4 and its core's ratios",
+                "eq18-field": "variance_um2",
                 "eq18-population": "variance_um2, log_variance_sd",
                 "periodic-mark": "mark_um, depth_sd_um, lay_sd_um, variance_um2",
                 "periodic-mark-profile": "mark_um, depth_sd_um, variance_um2"}

@@ -16,12 +16,16 @@ neighbour at the second ordinate lies 27 degrees away), so the core is not smoot
 
 Measured in sample (the measured-psd model with Gaussian heights fitted to each map, the map
 ranked among 19 draws; 0-19, 9.5 expected): on 32 synthetic eq 18 maps of 256 x 128 points
-(lengths 8 to 32 points, ratios 1 to 8, random angles), Str's mean rank 6.2 with the table
-alone and 8.2 with the core, outside 19 % and 9 % of the maps; Sal's 11.0 and 9.6, outside
-13 % and 9 %. On 12 maps with a lay along y (``tests/surface_models/test_psd_core.py``), the
-measured Sal below every draw on 11 of 12 with the table alone and on none with the core. The
-draws' Str stays a little above the map's where the lengths are long (a draw's own periodogram
-adds its noise to the map's, which the core copies): 1.1 to 1.3 times on the maps above.
+(lengths 8 to 32 points, ratios 1 to 8, random angles), Str's mean rank 6.2 with the table alone
+and 8.1 with the core, outside on 6 and 3 of the 32; Sal's 11.0 and 11.2, outside on 4 and 2. On
+12 maps with a lay along y (``tests/surface_models/test_psd_core.py``), the measured Sal below
+every draw on 11 of 12 with the table alone and on none with the core. The draws' Str stays a
+little above the map's where the lengths are long (a draw's own periodogram adds its noise to
+the map's, which the core copies; drawn from the raw periodogram itself as much): 1.0 to 1.3
+times on maps of lengths 16 to 32 and 4 to 8 points. Left out of the table altogether, the axes'
+ordinates emptied the bins beside an axis on the lower rings, which then took values from 10
+degrees away: an eq 18 surface whose lay lies along an axis drew Sal 21 % too long; the table is
+made with each axis ordinate replaced by the mean of its neighbours across the axis instead.
 
 The core holds, on the fitted grid's frequencies within :data:`CORE_STEPS` steps of the coarser
 axis (its ``radius``) and along the two axes, each periodogram ordinate divided by the table's
