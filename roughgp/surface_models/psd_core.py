@@ -49,7 +49,6 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-import scipy.ndimage
 
 __all__ = ["CORE_STEPS", "TAPER_SHARE", "RATIO_RANGE", "MAX_HALF", "MAX_AXIS", "KEYS", "PsdCore",
            "core_indices", "axis_halves", "factor", "from_hyperparameters", "to_hyperparameters",
@@ -119,6 +118,7 @@ def factor(core, qy, qx):
     inside = r < core.radius
     if not inside.any():
         return out
+    import scipy.ndimage   # here: the model file's schema imports this module at start-up
     ny, nx = core.ratio.shape
     u = qy[inside] / core.step[0] + ny // 2
     v = qx[inside] / core.step[1] + nx // 2

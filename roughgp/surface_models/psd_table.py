@@ -202,7 +202,7 @@ def periodogram(h, spacing, prewhiten=True):
 
 def _differenced(h, spacing, qy, qx):
     """``((P_x, G_x), (P_y, G_y))``: the windowed periodograms of the differences of ``h``
-    along x and along y and their transmissions :math:`4 \sin^2(\pi q \Delta)`."""
+    along x and along y and their transmissions :math:`4 \\sin^2(\\pi q \\Delta)`."""
     along_x = np.pad(np.diff(h, axis=1), ((0, 0), (0, 1)), constant_values=np.nan)
     along_y = np.pad(np.diff(h, axis=0), ((0, 1), (0, 0)), constant_values=np.nan)
     (dy, dx), shape = spacing, np.shape(h)
