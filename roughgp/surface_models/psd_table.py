@@ -127,8 +127,12 @@ def estimate(h, spacing):
 def _combined(a, b):
     """The mean of the plain and prewhitened estimates ``a``, ``b``, or the lower where one
     exceeds the other :data:`LEAK_RATIO` times."""
-    leak = (a > LEAK_RATIO * b) | (b > LEAK_RATIO * a)
-    return np.where(leak, np.minimum(a, b), 0.5 * (a + b))
+    return np.where(_leaks(a, b), np.minimum(a, b), 0.5 * (a + b))
+
+
+def _leaks(a, b):
+    """Where one estimate exceeds the other :data:`LEAK_RATIO` times."""
+    return (a > LEAK_RATIO * b) | (b > LEAK_RATIO * a)
 
 
 def low_frequency_core(h, spacing):
@@ -140,10 +144,11 @@ def low_frequency_core(h, spacing):
     where the table's bins took the lower, the prewhitened on an axis from the differences
     along it alone; :mod:`~roughgp.surface_models.psd_core` says why)."""
     qy, qx, p = periodogram(h, spacing, prewhiten=False)
-    w = periodogram(h, spacing)[2]
+    (p_x, gain_x), (p_y, gain_y) = along = _differenced(np.asarray(h, dtype=np.float64), spacing,
+                                                        qy, qx)
+    w = _whitened(*along)
     # on an axis the differences across it transmit nothing and only leak: each axis from
     # the differences along it (at qy = 0 those along x)
-    (p_x, gain_x), (p_y, gain_y) = _differenced(np.asarray(h, dtype=np.float64), spacing, qy, qx)
     with np.errstate(invalid="ignore", divide="ignore"):
         w[0, 1:], w[1:, 0] = p_x[0, 1:] / gain_x[0, 1:], p_y[1:, 0] / gain_y[1:, 0]
     (a, f_min, f_max), (b, _, _) = (log_polar_table(qy, qx, _off_axes(c)) for c in (p, w))
@@ -153,9 +158,8 @@ def low_frequency_core(h, spacing):
     def ratios(rows, cols):
         y, x = qy[rows], qx[cols]
         at_a, at_b = psd_at(a, f_min, f_max, y, x), psd_at(b, f_min, f_max, y, x)
-        leak = (at_a > LEAK_RATIO * at_b) | (at_b > LEAK_RATIO * at_a)
         pw = p[np.ix_(rows, cols)], w[np.ix_(rows, cols)]
-        ordinate = np.where(leak, np.where(at_a < at_b, *pw), 0.5 * (pw[0] + pw[1]))
+        ordinate = np.where(_leaks(at_a, at_b), np.where(at_a < at_b, *pw), 0.5 * (pw[0] + pw[1]))
         back = psd_at(table, f_min, f_max, y, x)
         with np.errstate(invalid="ignore", divide="ignore"):
             out = np.clip(np.where(back > 0, ordinate / back, 1.0), *psd_core.RATIO_RANGE)
@@ -193,11 +197,15 @@ def periodogram(h, spacing, prewhiten=True):
     qy, qx = scipy.fft.fftfreq(ny, dy), scipy.fft.fftfreq(nx, dx)
     if not prewhiten:
         return qy, qx, _windowed_periodogram(h, spacing)
-    (p_x, gain_x), (p_y, gain_y) = _differenced(h, spacing, qy, qx)
-    gain = gain_x + gain_y
+    return qy, qx, _whitened(*_differenced(h, spacing, qy, qx))
+
+
+def _whitened(x, y):
+    """The prewhitened periodogram from the differences' ``(P, G)`` along x and along y:
+    :math:`(P_x + P_y) / (G_x + G_y)`, 0 where both transmit nothing."""
+    gain = x[1] + y[1]
     with np.errstate(invalid="ignore", divide="ignore"):
-        c = np.where(gain > 0, (p_x + p_y) / gain, 0.0)
-    return qy, qx, c
+        return np.where(gain > 0, (x[0] + y[0]) / gain, 0.0)
 
 
 def _differenced(h, spacing, qy, qx):
