@@ -119,7 +119,8 @@ def unit_heights(h):
 
 def amplitude_parameters(h, p):
     """``{p}a, {p}q, {p}p, {p}v`` and ``Sz`` (``p = "S"``) or ``Rt`` of residual heights ``h``."""
-    peak, valley = float(h.max()), float(-h.min())
+    # 0.0 + : a flat surface's heights are +0, whose negation -0 would print as "Sv -0"
+    peak, valley = 0.0 + float(h.max()), 0.0 + float(-h.min())
     u, scale = unit_heights(h)
     return {f"{p}a": float(np.mean(np.abs(h))), f"{p}q": scale * math.sqrt(np.mean(u * u)),
             f"{p}p": peak, f"{p}v": valley, f"{p}{'z' if p == 'S' else 't'}": peak + valley}

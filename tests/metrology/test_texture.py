@@ -113,6 +113,10 @@ def test_plane_mean_only_has_the_plane_sq_and_levelled_is_flat():
 def test_constant_surface_and_profile_are_flat():
     params = texture.areal_parameters(np.full((8, 9), 3.0), undefined="nan")
     assert params["Sa"] == params["Sq"] == params["Sz"] == 0.0
+    # +0, not -0: a flat surface's Sv and Rv printed as "-0"
+    assert all(math.copysign(1.0, params[k]) == 1.0 for k in ("Sp", "Sv", "Sz"))
+    profile = texture.profile_parameters(np.full(50, -1.0), undefined="nan")
+    assert all(math.copysign(1.0, profile[k]) == 1.0 for k in ("Rp", "Rv", "Rt"))
     with pytest.raises(UndefinedParameterError, match="RSm"):
         texture.profile_parameters(np.full(50, -1.0))
     for call in (texture.texture_direction, texture.spatial_parameters, texture.mean_width,
