@@ -108,15 +108,17 @@ def face_levels(acvf, shape, spacing, torus_shape, *, outer=False):
     <= max(m_a / 2, n_a + 15) d_a`` (at most 64 of them), the other axes over all their lags on
     the torus (a ridge may cross the face beyond the grid's lags; a band, not the face alone,
     since an oscillating ACVF may vanish on the face itself). ``outer=True``: on the outer
-    quarter of the torus instead, ``m_a / 4 <= |tau_a| / d_a <= m_a / 2``: what is left of the
-    ACVF where the taper ends."""
+    quarter of the torus beyond the grid's lags instead, ``max(m_a / 4, n_a - 1) <= |tau_a| /
+    d_a <= m_a / 2``: what is left of the ACVF where the taper ends (an axis left at its
+    minimal torus, ``m_a = 2 n_a``, has no taper: only its lags beyond the grid's count, the
+    others are R's own and no torus changes them)."""
     zero = np.zeros((1, len(shape)))
     levels = []
     for axis in range(len(shape)):
         grids = [np.where(np.arange(m) <= m // 2, np.arange(m), np.arange(m) - m) * d
                  for m, d in zip(torus_shape, spacing)]
         n, m = shape[axis], torus_shape[axis]
-        band = np.unique((np.linspace(m // 4, m // 2, 64) if outer else
+        band = np.unique((np.linspace(max(m // 4, n - 1), m // 2, 64) if outer else
                           np.linspace(n - 1, max(m // 2, n + 15), 64)).round())
         grids[axis] = np.concatenate([-band, band]) * spacing[axis]
         mesh = np.meshgrid(*grids, indexing="ij")

@@ -79,6 +79,26 @@ def test_an_invalid_acvf_is_refused_without_growing_the_torus_to_its_limit():
         assert emb.exact and emb.min_eigenvalue >= -1e-10
 
 
+def test_an_invalid_acvf_on_a_narrow_grid_is_refused_early(monkeypatch):
+    """A 48 x 24 grid (the unseen half of a 48² map in `fit ground --model auto`'s check of
+    the heights): the short axis' torus was doubled up to max_points (96 x 1049760 points, 217 s
+    for the pre-distorted ACVF of a spectral mixture) because the long axis, left at its
+    minimal torus, counted its own grid lags as "where the taper ends". Its lags beyond the
+    grid's are what count: the search now stops once the eigenvalues have settled."""
+    def invalid(lags):  # a Gaussian bump with a negative ring: its PSD is negative somewhere
+        r2 = (lags[..., 0] ** 2 + lags[..., 1] ** 2) / 36.0
+        return np.exp(-r2 / 2) * (1 - 0.6 * r2)
+
+    tori = []
+    eigenvalues = truncation.tapered_eigenvalues
+    monkeypatch.setattr(truncation, "tapered_eigenvalues",
+                        lambda *a, **k: tori.append(a[1]) or eigenvalues(*a, **k))
+    with pytest.raises(truncation.NotEmbeddableError, match="no larger torus"):
+        circulant.embed(invalid, (48, 24))
+    assert all(t[0] == 96 for t in tori)             # the long axis needs no taper
+    assert len(tori) <= 12 and max(np.prod(t) for t in tori) < 2**18   # was 96 x 1049760
+
+
 def test_a_grid_whose_torus_is_too_large_is_refused_on_the_coarse_copy(monkeypatch):
     """4096² with lambda_a 5000 (`simulate ground`) took 26 s to refuse: the coarse copy's
     search doubled its small tori up to max_points while the fine torus they implied was
