@@ -24,11 +24,15 @@ fitted model with the heights of as many tiles drawn with replacement:
   (:mod:`roughgp.surface_models.pareto_tails`; a resample of the measured table could only
   lose the deepest pit, never find a deeper one), or their skewness and kurtosis (Johnson).
 
-The spectrum's shape and the lengths stay the fit's. The spread of the bootstrap models stands
-for the spread of a crop of the part about the fitted one: on a stationary surface the
-sampling spread of a crop's variance and distribution, on a part that varies the variation
-between its regions as far as the fitted crop shows it (a crop that saw one region only
-cannot know another's). What it buys on synthetic and real maps is recorded in
+- for a measured-psd model, its spectrum's shape theirs too: the table times the drawn tiles'
+  mean periodogram over all the tiles', in coarse log-polar bins
+  (:mod:`roughgp.surface_models.tile_spectra`), then scaled to the variance above (so the
+  lengths, the lay and the direction vary as the tiles' do). eq 18's lengths stay the fit's.
+
+The spread of the bootstrap models stands for the spread of a crop of the part about the
+fitted one: on a stationary surface the sampling spread of a crop's variance, distribution
+and spectrum, on a part that varies the variation between its regions as far as the fitted
+crop shows it (a crop that saw one region only cannot know another's). What it buys on synthetic and real maps is recorded in
 ``benchmarks/iaaft_held_out.py`` and ``benchmarks/real_out_of_sample.py``.
 """
 
@@ -133,6 +137,7 @@ def tile_bootstrap_models(model: FittedModel, z, n_models, *, spacing=None, tile
     heights, filtered = tile_heights(z, spacing, model, tiles)
     pooled = np.concatenate([h.ravel() for h in heights])
     variance = float(np.nanvar(pooled))
+    shaped = _ShapedTable(model, heights, spacing) if model.equation == "measured-psd" else None
     rng = np.random.default_rng([int(seed), 5])
     out = []
     for _ in range(int(n_models)):
@@ -143,6 +148,31 @@ def tile_bootstrap_models(model: FittedModel, z, n_models, *, spacing=None, tile
         hp = dict(model.hyperparameters)
         for name in EQUATIONS[model.equation]:
             hp[name] = (np.asarray(hp[name], dtype=np.float64) * ratio).tolist()
+        if shaped is not None:
+            hp["psd_um4"] = shaped(pick, ratio).tolist()
         out.append(dataclasses.replace(model, hyperparameters=hp,
                                        marginal=_marginal(model, h, f)))
     return tuple(out)
+
+
+class _ShapedTable:
+    """A measured-psd model's table given the spectrum's shape of a draw of tiles
+    (:func:`~roughgp.surface_models.tile_spectra.shape_factor`) and ``ratio`` times the
+    model's variance over the measured band."""
+
+    def __init__(self, model, heights, spacing):
+        from roughgp.surface_models import measured_psd, psd_core, tile_spectra
+        hp = model.hyperparameters
+        self.table = np.asarray(hp["psd_um4"], dtype=np.float64)
+        self.band = (float(hp["frequency_min_per_um"]), float(hp["frequency_max_per_um"]))
+        self.grid = (tuple(model.spacing), measured_psd.fitted_shape(model))
+        self.core = psd_core.from_hyperparameters(hp)
+        self.variance = measured_psd.band_variance(model)
+        self.ordinates = tile_spectra.tile_ordinates(
+            heights, model.spacing if spacing is None else spacing, *self.band)
+
+    def __call__(self, pick, ratio):
+        from roughgp.surface_models import psd_table, tile_spectra
+        table = self.table * tile_spectra.shape_factor(*self.ordinates, pick)
+        band = psd_table.table_variance(table, *self.band, *self.grid, core=self.core)
+        return table * (ratio * self.variance / band)

@@ -8,6 +8,7 @@ import types
 
 import numpy as np
 import pytest
+import scipy.ndimage
 
 from roughgp.checking.predictive import predictive_models
 from roughgp.checking.tile_bootstrap import (
@@ -17,7 +18,9 @@ from roughgp.checking.tile_bootstrap import (
     tile_heights,
 )
 from roughgp.experiments.iaaft_held_out import synthetic_map
+from roughgp.surface_models import tile_spectra
 from roughgp.surface_models.fit import fit_psd_model, fit_surface_model
+from roughgp.surface_models.measured_psd import band_variance
 
 
 @pytest.fixture(scope="module")
@@ -47,11 +50,12 @@ def test_each_model_has_the_variance_and_heights_of_its_tiles(lognormal_map, psd
     assert len(heights) == TILES[0] * TILES[1] and all(h.shape == (16, 16) for h in heights)
     variance = np.var(np.concatenate([h.ravel() for h in heights]))
     models = tile_bootstrap_models(psd_iaaft, lognormal_map, 19, seed=0)
-    ratios = [np.asarray(m.hyperparameters["psd_um4"]) / np.asarray(
-        psd_iaaft.hyperparameters["psd_um4"]) for m in models]
-    for r in ratios:   # one factor over the whole table
-        np.testing.assert_allclose(r, r.flat[0])
-    factors = np.array([r.flat[0] for r in ratios])
+    rng = np.random.default_rng([0, 5])   # the tiles each model drew, as the bootstrap does
+    picks = [rng.integers(0, len(heights), len(heights)) for _ in models]
+    factors = np.array([np.var(np.concatenate([heights[k].ravel() for k in p])) / variance
+                        for p in picks])
+    for m, f in zip(models, factors):   # the band's variance scaled as the tiles' variance
+        assert band_variance(m) == pytest.approx(f * band_variance(psd_iaaft), rel=1e-9)
     # a part of two roughnesses: the draws' variance spreads both ways about the fitted one
     assert factors.min() < 0.85 and factors.max() > 1.15
     for m, f in zip(models, factors):
@@ -62,6 +66,43 @@ def test_each_model_has_the_variance_and_heights_of_its_tiles(lognormal_map, psd
     spread = [np.ptp(m.marginal["quantiles_um"][400:601]) for m in models]
     assert np.corrcoef(spread, factors)[0, 1] > 0.8   # the rougher draws, the wider heights
     assert variance > 0
+
+
+def test_the_spectrum_s_shape_is_the_drawn_tiles_own():
+    """A map whose left half has its lay along x and right half along y: the more tiles of
+    the left half a model drew, the more of its power lies along the left half's lay."""
+    noise = np.random.default_rng(0).standard_normal((128, 128))
+    z = np.concatenate([scipy.ndimage.gaussian_filter(noise, (1, 6), mode="wrap")[:, :64],
+                        scipy.ndimage.gaussian_filter(noise, (6, 1), mode="wrap")[:, 64:]],
+                       axis=1)
+    model = fit_psd_model(z, 1.0, marginal="iaaft", s=None, l=None).model
+    table = np.asarray(model.hyperparameters["psd_um4"])
+    rng = np.random.default_rng([0, 5])
+    left, contrast = [], []
+    for m in tile_bootstrap_models(model, z, 19, seed=0):
+        pick = rng.integers(0, 16, 16)
+        factor = np.asarray(m.hyperparameters["psd_um4"]) / table
+        left.append(np.mean(pick % 4 < 2))   # columns 0 and 1 of the 4 x 4 tiles
+        # long along x: power near qx = 0, the directions 75-105 degrees (bins 15-20)
+        contrast.append(np.log(factor[10:30, 15:21].mean()
+                               / factor[10:30, np.r_[0:3, 33:36]].mean()))
+    assert np.corrcoef(left, contrast)[0, 1] > 0.8
+    assert np.ptp(contrast) > 0.5   # a factor of 1.6 between the draws' directional contrast
+
+
+def test_the_shape_factor_of_every_tile_once_is_one_and_of_too_few_ordinates_one():
+    rng = np.random.default_rng(1)
+    tiles = [rng.standard_normal((32, 32)) for _ in range(16)]
+    sums, counts = tile_spectra.tile_ordinates(tiles, (1.0, 1.0), 1 / 128, 0.75)
+    np.testing.assert_allclose(tile_spectra.shape_factor(sums, counts, np.arange(16)), 1.0)
+    one = tile_spectra.shape_factor(sums, counts, np.zeros(16, int))  # one tile, 16 times
+    thin = (16 * counts[0] < tile_spectra.MIN_ORDINATES)
+    rows = np.arange(40) * tile_spectra.RINGS // 40
+    cols = np.arange(36) * tile_spectra.ANGLES // 36
+    assert thin.any() and np.all(one[thin[np.ix_(rows, cols)]] == 1.0)  # below the tiles' reach
+    assert not np.allclose(one[~thin[np.ix_(rows, cols)]], 1.0)
+    with pytest.raises(ValueError, match="0 < f_min < f_max"):
+        tile_spectra.tile_ordinates(tiles, (1.0, 1.0), 0.5, 0.25)
 
 
 def test_eq18_scales_its_variance_and_noise_alike(lognormal_map):
