@@ -41,14 +41,18 @@ def tile_ordinates(tiles, spacing, f_min, f_max) -> tuple[np.ndarray, np.ndarray
     """``(sums, counts)``, each ``(len(tiles), RINGS, ANGLES)``: per tile (heights, um, NaN
     where unmeasured) the sum and the number of its prewhitened periodogram's ordinates in
     each coarse bin of the band ``[f_min, f_max]`` (1/um); ordinates outside the band, at
-    zero frequency or not finite are left out."""
+    zero frequency or not finite are left out, and so is a tile whose periodogram has no
+    data (fewer than 16 measured points, or none inside its window): its counts are 0."""
     if not 0 < f_min < f_max:
         raise ValueError(f"f_min and f_max must satisfy 0 < f_min < f_max, got {f_min}, {f_max}")
     sums = np.zeros((len(tiles), RINGS, ANGLES))
     counts = np.zeros((len(tiles), RINGS, ANGLES))
     step = math.log(f_max / f_min) / RINGS
     for k, tile in enumerate(tiles):
-        qy, qx, c = psd_table.periodogram(tile, spacing)
+        try:
+            qy, qx, c = psd_table.periodogram(tile, spacing)
+        except ValueError:   # a tile all but unmeasured (psd_table says why): no ordinates
+            continue
         qy, qx = np.meshgrid(qy, qx, indexing="ij")
         r = np.hypot(qy, qx)
         keep = (r >= f_min * (1 - 1e-9)) & (r <= f_max * (1 + 1e-9)) & np.isfinite(c)

@@ -101,6 +101,11 @@ def test_the_shape_factor_of_every_tile_once_is_one_and_of_too_few_ordinates_one
     cols = np.arange(36) * tile_spectra.ANGLES // 36
     assert thin.any() and np.all(one[thin[np.ix_(rows, cols)]] == 1.0)  # below the tiles' reach
     assert not np.allclose(one[~thin[np.ix_(rows, cols)]], 1.0)
+    tiles[3] = np.full((32, 32), np.nan)                 # a tile with no measured point
+    tiles[5][:, 1:-1] = np.nan                           # measured only where the window is 0
+    sums, counts = tile_spectra.tile_ordinates(tiles, (1.0, 1.0), 1 / 128, 0.75)
+    assert counts[3].sum() == counts[5].sum() == 0 and counts[4].sum() > 0
+    assert np.all(tile_spectra.shape_factor(sums, counts, [3] * 16) == 1.0)
     with pytest.raises(ValueError, match="0 < f_min < f_max"):
         tile_spectra.tile_ordinates(tiles, (1.0, 1.0), 0.5, 0.25)
 
