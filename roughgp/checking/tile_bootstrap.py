@@ -22,8 +22,7 @@ fitted model with the heights of as many tiles drawn with replacement:
 - its height distribution theirs: the IAAFT quantile table of the drawn tiles, its tails
   beyond :data:`~roughgp.surface_models.pareto_tails.TAIL_SHARE` generalized Pareto
   (:mod:`roughgp.surface_models.pareto_tails`; a resample of the measured table could only
-  lose the deepest pit, never find a deeper one), or their skewness and kurtosis (Johnson).
-
+  lose the deepest pit, never find a deeper one), or their skewness and kurtosis (Johnson);
 - for a measured-psd model, its spectrum's shape theirs too: the table times the drawn tiles'
   mean periodogram over all the tiles', in coarse log-polar bins
   (:mod:`roughgp.surface_models.tile_spectra`), then scaled to the variance above (so the
@@ -32,8 +31,9 @@ fitted model with the heights of as many tiles drawn with replacement:
 The spread of the bootstrap models stands for the spread of a crop of the part about the
 fitted one: on a stationary surface the sampling spread of a crop's variance, distribution
 and spectrum, on a part that varies the variation between its regions as far as the fitted
-crop shows it (a crop that saw one region only cannot know another's). What it buys on synthetic and real maps is recorded in
-``benchmarks/iaaft_held_out.py`` and ``benchmarks/real_out_of_sample.py``.
+crop shows it (a crop that saw one region only cannot know another's). What it buys on
+synthetic and real maps is recorded in ``benchmarks/iaaft_held_out.py`` and
+``benchmarks/real_out_of_sample.py``.
 """
 
 from __future__ import annotations

@@ -65,8 +65,8 @@ one fitted model are too alike for another crop); with --predictive-from sandwic
 models) from B parameter sets drawn from the Whittle likelihood's sandwich covariance on the
 fitted grid instead (no refits: about half the time of 9 refits on 256 x 256 points); with
 --predictive-from tiles (with --held-out) from B copies of the model given the variance and
-the heights of the fitted part's 4 x 4 tiles drawn with replacement (the crop-to-crop
-variation the fitted part shows, and the fit's).
+the heights of the fitted part's 4 x 4 tiles drawn with replacement, and a measured PSD their
+spectrum's shape too (the crop-to-crop variation the fitted part shows, and the fit's).
 --tiles M N cuts the map into M x N tiles and ranks each tile's Sq, Sal, Str and Std among
 the same tile of the simulations: where on the map the model fails (--plot draws the
 tiles). How often each says "outside" on surfaces of known models: the chapter "Does the
@@ -111,7 +111,8 @@ def add_parser(sub, formatter, input_epilog, add_input_options) -> None:
                         "any rung --calibrate refits), 'sandwich' (eq 18: B parameter sets "
                         "from the Whittle sandwich covariance, no refits) or 'tiles' (with "
                         "--held-out; measured PSD or eq 18: the fitted part's 4 x 4 tiles "
-                        "drawn with replacement, their variance and heights) (default refits)")
+                        "drawn with replacement, their variance and heights, and a measured PSD "
+                        "their spectrum's shape) (default refits)")
     c.add_argument("--tiles", type=integer("--tiles"), nargs=2, metavar=("M", "N"),
                    help="rank each of M x N tiles' Sq, Sal, Str, Std among the same tile of "
                         "the simulations (tiles of at least 16 x 16 points)")
@@ -185,7 +186,8 @@ def _predictive_models(model, args, start, fitted=None):
     shape = fitted_shape(model, None)  # None: predictive_models says why
     if args.predictive_from == "tiles":
         err(f"drawing {args.predictive} models from the fitted part's tiles, drawn with "
-            f"replacement (their variance and heights) ...")
+            f"replacement (their variance and heights; a measured PSD their spectrum's shape "
+            f"too) ...")
     elif shape is not None and refits:
         err(f"refitting {args.predictive} bootstrap measurements of {shape[0]} x {shape[1]} "
             f"points drawn from the model (the fit's uncertainty) ...")

@@ -75,8 +75,9 @@ MODELS = (
           "left unmeasured in the fit and both checks (batch --spurious)"),
     Model("psd-iaaft-tiles", ("--model", "psd", "--marginal", "iaaft", "--predictive", "19",
                               "--predictive-from", "tiles"),
-          "psd-iaaft, its simulations drawn from 19 models given the variance and heights of "
-          "half A's 4 x 4 tiles drawn with replacement (roughgp.checking.tile_bootstrap)"),
+          "psd-iaaft, its simulations drawn from 19 models given the variance, heights and "
+          "spectrum's shape of half A's 4 x 4 tiles drawn with replacement "
+          "(roughgp.checking.tile_bootstrap)"),
     Model("population", ("--model", "population", "--anchors", "2", "2"),
           "eq 18 per tile of half A (2 x 2), pooled by random effects; each simulation a new "
           "region"),
