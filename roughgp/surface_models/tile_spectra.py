@@ -9,9 +9,10 @@ draws as alike as the fit's point estimate makes them.
 
 Here each tile's prewhitened periodogram (:func:`~roughgp.surface_models.psd_table.periodogram`,
 the ordinates at which the table's log-polar bins are made) is pooled in coarse log-polar bins
-(:data:`RINGS` rings over the model's band, :data:`ANGLES` directions over 180 degrees): a
-tile is a quarter of the map along each side, so its ordinates lie four times further apart
-than the map's and a coarse bin holds as many of them as :data:`MIN_ORDINATES` needs. For a
+(:data:`RINGS` rings over the model's band, :data:`ANGLES` directions over 180 degrees): one
+of the bootstrap's 4 x 4 tiles is a quarter of the map along each side, so its ordinates lie
+four times further apart than the map's and a coarse bin holds as many of them as
+:data:`MIN_ORDINATES` needs. For a
 draw of tiles, :func:`shape_factor` is the drawn tiles' mean ordinate per bin over all the
 tiles' (1 where the drawn tiles hold fewer than :data:`MIN_ORDINATES` ordinates in a bin, as
 below the tiles' own fundamental frequency), spread over the model's finer table
