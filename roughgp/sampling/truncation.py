@@ -144,10 +144,11 @@ def search_margins(acvf, shape, spacing, *, tolerance, approximate, max_clipped_
     which is negative somewhere: it is not a valid covariance at this spacing).
 
     ``implied``: for a search on a coarse copy of a grid, ``(grid shape, grid spacing,
-    function of the margins -> the grid's torus)``: margins that fail while the grid's torus
-    they imply already exceeds ``max_points`` end the search at once (any passing margins are
-    larger still), the error naming that grid (no torus of it tried), instead of doubling on
-    the small coarse tori up to ``max_points`` (a 4096² grid: 26 s to refuse, now 1 s).
+    function of the margins -> the grid's torus)``: margins whose grid torus exceeds
+    ``max_points`` end the search before their coarse torus is evaluated (passing or not, no
+    larger margins can help the grid), the error naming that grid (no torus of it tried),
+    instead of doubling on the small coarse tori up to ``max_points`` (a 4096² grid: 26 s to
+    refuse, now 1 s).
     """
     step = [max(1, math.ceil(n / 16)) for n in shape]
     tries = []
@@ -158,17 +159,19 @@ def search_margins(acvf, shape, spacing, *, tolerance, approximate, max_clipped_
             last = tries[-1] if tries else (torus, float("nan"), float("nan"))
             raise too_large_error(shape, spacing, last[1], last[2], tolerance, last[0],
                                   [t for t, _, _ in tries], torus, max_points)
-        eig, variance, rounding = tapered_eigenvalues(acvf, torus, spacing, shape)
-        done, min_rel, share = criterion(eig, variance, rounding, tolerance, approximate,
-                                          max_clipped_fraction)
-        tries.append((torus, min_rel, share))
-        if implied is not None and not done:
-            # margins that still fail imply that any passing ones are larger: too large too
+        if implied is not None:
+            # the grid's torus these margins imply is too large: whether they pass here or
+            # not (then any passing ones are larger still), the grid's cannot be embedded, so
+            # the coarse torus is not even evaluated
             grid_shape, grid_spacing, grid_torus = implied
             big = grid_torus(margins)
             if np.prod(big, dtype=np.float64) > max_points:
                 raise too_large_error(grid_shape, grid_spacing, float("nan"), float("nan"),
                                       tolerance, None, [], big, max_points)
+        eig, variance, rounding = tapered_eigenvalues(acvf, torus, spacing, shape)
+        done, min_rel, share = criterion(eig, variance, rounding, tolerance, approximate,
+                                          max_clipped_fraction)
+        tries.append((torus, min_rel, share))
         return done, (list(margins), eig, variance, min_rel, share), torus
 
     margins, low = list(start) if start is not None else [0] * len(shape), None

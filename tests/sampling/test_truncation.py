@@ -114,6 +114,9 @@ def test_a_grid_whose_torus_is_too_large_is_refused_on_the_coarse_copy(monkeypat
         circulant.embed(kernel.acvf, (4096, 4096))
     assert "(4096, 4096)" in str(caught.value)
     assert len(calls) <= 8 and max(np.prod(t) for t in calls) < 2 ** 22   # coarse tori only
+    # margins whose grid torus is too large are refused before their coarse torus is
+    # evaluated: 5 tori, the largest (1029, 1568); the old code evaluated a sixth, (1029, 2100)
+    assert len(calls) == 5 and max(np.prod(t) for t in calls) < 1029 * 2100
     calls.clear()
     shorter = RotatedExponentialKernel(variance=10.0, lengthscales=(60.0, 5.0), angle=math.pi / 6)
     emb = circulant.embed(shorter.acvf, (1024, 1024))   # a coarse search that fits
