@@ -86,7 +86,7 @@ from roughgp.metrology.filters import transmission
 from roughgp.surface_models import psd_core
 
 __all__ = ["N_RADII", "N_ANGLES", "TAPER", "MIN_ORDINATES", "LEAK_RATIO", "SLOPE_RANGE",
-           "estimate", "low_frequency_core", "periodogram", "log_polar_table", "psd_at",
+           "estimate", "low_frequency_core", "periodogram", "polar", "log_polar_table", "psd_at",
            "torus_shape", "MAX_TORUS_POINTS", "synthesize", "population_slices", "acvf_grid",
            "table_variance", "band_transmission", "scale_to_band"]
 
@@ -220,7 +220,9 @@ def _differenced(h, spacing, qy, qx):
             (_windowed_periodogram(along_y, spacing), gain_y))
 
 
-def _polar(qy, qx):
+def polar(qy, qx):
+    """``(r, theta)`` on the grid of the frequency axes ``qy`` x ``qx``: the radius and the
+    direction modulo 180 degrees (radians), the coordinates of the log-polar table."""
     qy, qx = np.meshgrid(qy, qx, indexing="ij")
     return np.hypot(qy, qx), np.mod(np.arctan2(qy, qx), math.pi)
 
@@ -231,7 +233,7 @@ def log_polar_table(qy, qx, c, n_radii=N_RADII, n_angles=N_ANGLES):
     ``f_max`` (1/um; NaN ordinates left out), each ordinate first brought to its bin's centre
     along the spectrum's local slope (:func:`_local_slopes`); empty bins interpolated (module
     docstring)."""
-    r, theta = _polar(qy, qx)
+    r, theta = polar(qy, qx)
     f_min, f_max = float(r[r > 0].min()), float(r.max())
     keep = (r > 0) & np.isfinite(c)   # an ordinate left out is NaN
     r, theta, c = r[keep], theta[keep], np.asarray(c)[keep]
@@ -354,7 +356,7 @@ def psd_at(table, f_min, f_max, qy, qx, core=None):
     table = np.asarray(table, dtype=np.float64)
     n_radii, n_angles = table.shape
     log_table = np.log(np.maximum(table, _FLOOR * table.max()))
-    r, theta = _polar(qy, qx)
+    r, theta = polar(qy, qx)
     step = math.log(f_max / f_min) / n_radii
     with np.errstate(divide="ignore"):
         u = np.clip((np.log(r) - math.log(f_min)) / step - 0.5, 0.0, n_radii - 1.0)
@@ -445,7 +447,7 @@ def table_variance(table, f_min, f_max, spacing, shape, s_um=None, l_um=None, co
     qy, qx = scipy.fft.fftfreq(ny, dy), scipy.fft.fftfreq(nx, dx)
     c = psd_at(table, f_min, f_max, qy, qx, core)
     if s_um is not None or l_um is not None:
-        c = c * band_transmission(_polar(qy, qx)[0], s_um, l_um)
+        c = c * band_transmission(polar(qy, qx)[0], s_um, l_um)
     return float(c.sum() / (ny * dy * nx * dx))
 
 
@@ -476,7 +478,7 @@ def scale_to_band(table, f_min, f_max, spacing, shape, variance, band_variance, 
     :func:`psd_at` (its ratios scale with the table)."""
     (ny, nx), (dy, dx) = shape, spacing
     qy, qx = scipy.fft.fftfreq(ny, dy), scipy.fft.fftfreq(nx, dx)
-    r, _ = _polar(qy, qx)
+    r, _ = polar(qy, qx)
     h = band_transmission(r, s_um, l_um)
     n_radii = table.shape[0]
     centres = f_min * np.exp((np.arange(n_radii) + 0.5) * math.log(f_max / f_min) / n_radii)

@@ -54,12 +54,10 @@ def tile_ordinates(tiles, spacing, f_min, f_max) -> tuple[np.ndarray, np.ndarray
             qy, qx, c = psd_table.periodogram(tile, spacing)
         except ValueError:   # a tile all but unmeasured (psd_table says why): no ordinates
             continue
-        qy, qx = np.meshgrid(qy, qx, indexing="ij")
-        r = np.hypot(qy, qx)
+        r, theta = psd_table.polar(qy, qx)
         keep = (r >= f_min * (1 - 1e-9)) & (r <= f_max * (1 + 1e-9)) & np.isfinite(c)
         ring = np.clip(((np.log(r[keep]) - math.log(f_min)) / step).astype(int), 0, RINGS - 1)
-        theta = np.mod(np.arctan2(qy[keep], qx[keep]), math.pi)
-        angle = np.clip((theta / (math.pi / ANGLES)).astype(int), 0, ANGLES - 1)
+        angle = np.clip((theta[keep] / (math.pi / ANGLES)).astype(int), 0, ANGLES - 1)
         flat = ring * ANGLES + angle
         sums[k] = np.bincount(flat, weights=c[keep], minlength=RINGS * ANGLES).reshape(
             RINGS, ANGLES)
