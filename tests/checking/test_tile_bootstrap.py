@@ -16,9 +16,12 @@ from roughgp.checking.tile_bootstrap import (
     tile_bootstrap_models,
     tile_bootstrap_refusal,
     tile_heights,
+    tile_spread_factor,
 )
+from roughgp.experiments.held_out import eq18_model
 from roughgp.experiments.iaaft_held_out import synthetic_map
 from roughgp.surface_models import tile_spectra
+from roughgp.surface_models.chain import form_removed
 from roughgp.surface_models.fit import fit_psd_model, fit_surface_model
 from roughgp.surface_models.measured_psd import band_variance
 
@@ -50,12 +53,14 @@ def test_each_model_has_the_variance_and_heights_of_its_tiles(lognormal_map, psd
     assert len(heights) == TILES[0] * TILES[1] and all(h.shape == (16, 16) for h in heights)
     variance = np.var(np.concatenate([h.ravel() for h in heights]))
     models = tile_bootstrap_models(psd_iaaft, lognormal_map, 19, seed=0)
+    spread = tile_spread_factor(psd_iaaft, lognormal_map, seed=0)
     rng = np.random.default_rng([0, 5])   # the tiles each model drew, as the bootstrap does
     picks = [rng.integers(0, len(heights), len(heights)) for _ in models]
     factors = np.array([np.var(np.concatenate([heights[k].ravel() for k in p])) / variance
                         for p in picks])
     for m, f in zip(models, factors):   # the band's variance scaled as the tiles' variance
-        assert band_variance(m) == pytest.approx(f * band_variance(psd_iaaft), rel=1e-9)
+        assert band_variance(m) == pytest.approx(f ** spread * band_variance(psd_iaaft),
+                                                 rel=1e-9)
     # a part of two roughnesses: the draws' variance spreads both ways about the fitted one
     assert factors.min() < 0.85 and factors.max() > 1.15
     for m, f in zip(models, factors):
@@ -66,6 +71,41 @@ def test_each_model_has_the_variance_and_heights_of_its_tiles(lognormal_map, psd
     spread = [np.ptp(m.marginal["quantiles_um"][400:601]) for m in models]
     assert np.corrcoef(spread, factors)[0, 1] > 0.8   # the rougher draws, the wider heights
     assert variance > 0
+
+
+def _log_variance_spreads(model, spread, n_maps=100, shape=(64, 64)):
+    """Over ``n_maps`` maps of ``model``: the sd of their log variance (a crop's spread), and
+    the mean sd of the log variance of 40 tile-bootstrap models of each, raised to ``spread``."""
+    crops, boots = [], []
+    for s in range(n_maps):
+        z = model.simulate(shape, seed=np.random.default_rng([3, s]))
+        crops.append(np.log(np.var(form_removed(z, (1.0, 1.0), model.cutoffs).sl)))
+        drawn = tile_bootstrap_models(model, z, 40, seed=s, spread=spread)
+        boots.append(np.std(np.log([m.hyperparameters["variance_um2"] for m in drawn])))
+    return np.std(crops, ddof=1), np.mean(boots)
+
+
+def test_the_spread_factor_widens_the_tiles_to_the_crops_spread():
+    """Lengths of 3/4 of a tile: the plain bootstrap spreads a crop's log variance about 2/3 as
+    wide as independent crops of the model do; raised to the model's own factor, as wide (the
+    maps drawn with other seeds than the factor's). White noise: no widening to speak of."""
+    long = eq18_model(1.0, 12.0, 12.0, 0.0, 0.0)
+    factor = tile_spread_factor(long, np.zeros((64, 64)), seed=0)
+    assert factor > 1.3
+    crop, plain = _log_variance_spreads(long, 1.0)
+    _, widened = _log_variance_spreads(long, factor)
+    assert plain < 0.75 * crop and widened == pytest.approx(crop, rel=0.15)
+    white = eq18_model(1.0, 0.3, 0.3, 0.0, 0.0)
+    assert 1.0 <= tile_spread_factor(white, np.zeros((64, 64)), seed=0) < 1.2
+    holes = np.zeros((64, 64))
+    holes[20:40, 20:40] = np.nan     # the holes kept in the draws: a factor of its own
+    assert tile_spread_factor(long, holes, seed=0) != factor
+    assert tile_spread_factor(long, holes, seed=0) == tile_spread_factor(long, holes, seed=0)
+    for bad in (0.5, float("nan"), np.inf, True):
+        with pytest.raises(ValueError, match="spread must be a finite number >= 1"):
+            tile_bootstrap_models(long, np.zeros((64, 64)), 2, spread=bad)
+    with pytest.raises(ValueError, match="draws must be an integer >= 2"):
+        tile_spread_factor(long, np.zeros((64, 64)), draws=1)
 
 
 def test_the_spectrum_s_shape_is_the_drawn_tiles_own():
