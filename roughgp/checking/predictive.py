@@ -150,7 +150,7 @@ def bootstrap_models(model: FittedModel, n_models, *, shape=None, spacing=None, 
 
 
 def predictive_models(model: FittedModel, n_models, *, source="refits", seed=0,
-                      progress=None, fitted=None) -> tuple[tuple, tuple]:
+                      progress=None, fitted=None, spread=None) -> tuple[tuple, tuple]:
     """``(models, held)``: the ``n_models`` models the predictive simulations draw from in turn
     (``check_model(..., models=...)``), from ``source`` (:data:`SOURCES`):
 
@@ -161,7 +161,9 @@ def predictive_models(model: FittedModel, n_models, *, source="refits", seed=0,
       expected information: the model file keeps no heights), no refits; ``held``: the
       hyperparameters the grid does not determine, kept at the fit;
     - ``"tiles"``: :func:`~roughgp.checking.tile_bootstrap.tile_bootstrap_models` of the map
-      the model was fitted on, ``fitted = (z, spacing)``; ``held`` is empty.
+      the model was fitted on, ``fitted = (z, spacing)``, its variance ratios raised to
+      ``spread`` (default: the model's own
+      :func:`~roughgp.checking.tile_bootstrap.tile_spread_factor`); ``held`` is empty.
 
     ``progress``: as :func:`bootstrap_models` (refits only). Raises ValueError saying why the
     model cannot be drawn so.
@@ -174,7 +176,8 @@ def predictive_models(model: FittedModel, n_models, *, source="refits", seed=0,
                              "(fitted = (z, spacing))")
         from roughgp.checking.tile_bootstrap import tile_bootstrap_models
         z, spacing = fitted
-        return tile_bootstrap_models(model, z, n_models, spacing=spacing, seed=seed), ()
+        return tile_bootstrap_models(model, z, n_models, spacing=spacing, seed=seed,
+                                     spread=spread), ()
     shape = fitted_shape(model, None)
     if shape is None:
         raise ValueError("the model file records no fitted shape (data.shape): its "

@@ -66,7 +66,8 @@ models) from B parameter sets drawn from the Whittle likelihood's sandwich covar
 fitted grid instead (no refits: about half the time of 9 refits on 256 x 256 points); with
 --predictive-from tiles (with --held-out) from B copies of the model given the variance and
 the heights of the fitted part's 4 x 4 tiles drawn with replacement, and a measured PSD their
-spectrum's shape too (the crop-to-crop variation the fitted part shows, and the fit's).
+spectrum's shape too (the crop-to-crop variation the fitted part shows, and the fit's; the
+variance's spread widened to a crop's, as the model's own draws measure it).
 --tiles M N cuts the map into M x N tiles and ranks each tile's Sq, Sal, Str and Std among
 the same tile of the simulations: where on the map the model fails (--plot draws the
 tiles). How often each says "outside" on surfaces of known models: the chapter "Does the
@@ -184,10 +185,19 @@ def _predictive_models(model, args, start, fitted=None):
     if why:
         raise UsageError(f"--predictive: {args.model}: {why}")
     shape = fitted_shape(model, None)  # None: predictive_models says why
+    spread = None
     if args.predictive_from == "tiles":
+        from roughgp.checking.tile_bootstrap import tile_spread_factor
         err(f"drawing {args.predictive} models from the fitted part's tiles, drawn with "
             f"replacement (their variance and heights; a measured PSD their spectrum's shape "
             f"too) ...")
+        try:
+            spread = tile_spread_factor(model, fitted[0], spacing=fitted[1], seed=args.seed)
+        except ValueError as error:
+            raise UsageError(f"{option}: {args.model}: {error}") from None
+        err(f"  the tiles' variance ratios raised to {spread:.2f}: on the model's own draws a "
+            f"crop's log variance spreads {spread:.2f} times as wide as its tiles' bootstrap "
+            f"(the waves longer than a tile)")
     elif shape is not None and refits:
         err(f"refitting {args.predictive} bootstrap measurements of {shape[0]} x {shape[1]} "
             f"points drawn from the model (the fit's uncertainty) ...")
@@ -199,7 +209,8 @@ def _predictive_models(model, args, start, fitted=None):
         err(f"  bootstrap measurement {b}/{total} refitted ({time.perf_counter() - start:.0f} s)")
     try:
         models, held = predictive_models(model, args.predictive, source=args.predictive_from,
-                                         seed=args.seed, progress=progress, fitted=fitted)
+                                         seed=args.seed, progress=progress, fitted=fitted,
+                                         spread=spread)
     except ValueError as error:
         raise UsageError(f"{option}: {args.model}: {error}") from None
     if held:

@@ -53,7 +53,8 @@ With --predictive-from SOURCE the draw's model is drawn first, the fit's uncerta
 carried: draws of several seeds then spread as new surfaces of the part would, not as
 copies of the fitted crop ('refits': one bootstrap refit; 'sandwich': one parameter set of
 eq 18's sandwich covariance; 'tiles': the model given the variance and heights of the fitted
-map's 4 x 4 tiles drawn with replacement, a measured PSD their spectrum's shape too, from
+map's 4 x 4 tiles drawn with replacement, the variance's spread widened to a crop's, a
+measured PSD their spectrum's shape too, from
 --fitted FILE, the measurement it was fitted on; --spurious leaves out its spurious points
 as a fit with --spurious did). The chapter "Which model reproduces which measurement" says
 what each carries.

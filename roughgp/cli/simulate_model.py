@@ -22,8 +22,8 @@ _ABOUT = {"refits": "one bootstrap refit of the model (a measurement of the fitt
                     "from the model and refitted the way the model was fitted)",
           "sandwich": "one parameter set from the fit's Whittle sandwich covariance",
           "tiles": "the model given the variance and the heights of the fitted part's 4 x 4 "
-                   "tiles drawn with replacement (a measured PSD their spectrum's shape "
-                   "too)"}
+                   "tiles drawn with replacement (the variance's spread widened to a crop's; "
+                   "a measured PSD their spectrum's shape too)"}
 
 
 def add_predictive_options(parser) -> None:

@@ -5,6 +5,7 @@ tile map, and the refusals before any work."""
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -180,5 +181,6 @@ def test_check_predictive_from_tiles_of_the_fitted_part(capsys, tmp_path):
     assert code == 0, err
     assert "against 9 predictive (tiles) simulations" in text
     assert "drawing 9 models from the fitted part's tiles" in err
+    assert re.search(r"the tiles' variance ratios raised to \d\.\d\d: on the model's own", err)
     again = _run(capsys, "check", *options)[1]
     assert again.split(" against ", 1)[1] == text.split(" against ", 1)[1]
