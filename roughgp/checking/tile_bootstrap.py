@@ -38,8 +38,10 @@ measures that share on draws of the fitted model itself on the fitted grid and i
 model's sd of the crops' log variance over the bootstrap's mean sd, at least 1), and each
 bootstrap model's variance ratio is raised to that power: the log ratio stretched about the
 fitted variance (the block bootstrap corrected by the model, as a parametric bootstrap
-calibrates a nonparametric one). The tables' shape factors and the heights' distributions are
-drawn as before.
+calibrates a nonparametric one). The drawn tiles' heights are stretched about their mean to
+that variance before their distribution is taken (an IAAFT model's amplitude is its quantile
+table's, whatever its spectrum's variance: stretched, the table carries the widened spread);
+their shape (skewness, kurtosis, tails) and the spectrum's shape are drawn as before.
 
 The spread of the bootstrap models stands for the spread of a crop of the part about the
 fitted one: on a stationary surface the sampling spread of a crop's variance, distribution
@@ -112,6 +114,12 @@ def tile_heights(z, spacing, model: FittedModel, tiles=TILES) -> tuple[list, lis
     cut = [(slice(ey[i], ey[i + 1]), slice(ex[j], ex[j + 1]))
            for i in range(tiles[0]) for j in range(tiles[1])]
     return [heights[s] for s in cut], [filtered[s] for s in cut]
+
+
+def _stretched(heights, variance_ratio):
+    """``heights`` about their mean, their variance times ``variance_ratio``."""
+    mean = np.nanmean(heights)
+    return mean + np.sqrt(variance_ratio) * (heights - mean)
 
 
 def _marginal(model, heights, filtered):
@@ -212,7 +220,9 @@ def tile_bootstrap_models(model: FittedModel, z, n_models, *, spacing=None, tile
         pick = rng.integers(0, len(heights), len(heights))
         h = np.concatenate([heights[k].ravel() for k in pick])
         f = np.concatenate([filtered[k].ravel() for k in pick])
-        ratio = (float(np.nanvar(h)) / variance) ** float(spread)
+        drawn = float(np.nanvar(h)) / variance
+        ratio = drawn ** float(spread)
+        h, f = _stretched(h, ratio / drawn), _stretched(f, ratio / drawn)
         hp = dict(model.hyperparameters)
         for name in EQUATIONS[model.equation]:
             hp[name] = (np.asarray(hp[name], dtype=np.float64) * ratio).tolist()

@@ -50,7 +50,7 @@ from roughgp.surface_models.fit import fit_psd_model
 
 __all__ = ["KINDS", "DESCRIBED", "MARGINALS_OF", "MARGINALS", "SHAPE", "LOG_SD", "RECORDED",
            "synthetic_map",
-           "PREDICTIVE", "iaaft_held_out_case", "load_records", "summary"]
+           "PREDICTIVE", "iaaft_held_out_case", "load_records", "summary", "per_parameter"]
 
 KINDS = ("gaussian", "lognormal", "two-regions", "gradient")
 #: the kinds one stationary model describes (the check's level is judged on them); the others
@@ -162,4 +162,30 @@ def summary(records) -> "pandas.DataFrame":
                               "within 10 % ± 3 %": verdict_within(low, high),
                               "Sq outside": sq, "Sq 95 % interval": f"{sq_low:.2f}-{sq_high:.2f}",
                               f"≤ {PASS} outside": passed})
+    return pd.DataFrame(lines)
+
+
+def per_parameter(records, half="held_out") -> "pandas.DataFrame":
+    """Per kind one model describes (:data:`DESCRIBED`) and marginal, on ``half``
+    (``"fitted"`` or ``"held_out"``): the cases and, per parameter of
+    :data:`~roughgp.checking.model_check.SURFACE_PARAMETERS`, the share of the cases with it
+    outside, its 95 % interval and its verdict against 10 % +- 3 %, as ``"15% [11%, 20%] ?"``
+    (``yes``, ``no``, ``?`` undecided: :func:`~roughgp.checking.ranks.verdict_within`)."""
+    import pandas as pd
+    if half not in ("fitted", "held_out"):
+        raise ValueError(f"half must be 'fitted' or 'held_out', got {half!r}")
+    mark = {"yes": "yes", "no": "no", "undecided": "?"}
+    lines = []
+    for kind in DESCRIBED:
+        for marginal in MARGINALS:
+            outside = [set(r["checks"][marginal][half]) for r in records
+                       if r["kind"] == kind and marginal in r["checks"]]
+            if len(outside) < 2:
+                continue
+            line = {"kind": kind, "heights": marginal, "cases": len(outside)}
+            for name in SURFACE_PARAMETERS:
+                share, low, high = share_interval([name in o for o in outside])
+                line[name] = (f"{100 * share:.0f}% [{100 * low:.0f}%, {100 * high:.0f}%] "
+                              f"{mark[verdict_within(low, high)]}")
+            lines.append(line)
     return pd.DataFrame(lines)

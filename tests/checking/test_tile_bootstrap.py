@@ -70,6 +70,13 @@ def test_each_model_has_the_variance_and_heights_of_its_tiles(lognormal_map, psd
         assert body[1] - body[0] > 0
     spread = [np.ptp(m.marginal["quantiles_um"][400:601]) for m in models]
     assert np.corrcoef(spread, factors)[0, 1] > 0.8   # the rougher draws, the wider heights
+    # the drawn heights stretched to the widened variance: at a spread of 2 each model's
+    # heights spread sqrt(f) times as wide as at 1 (f ** 2 against f)
+    plain = tile_bootstrap_models(psd_iaaft, lognormal_map, 19, seed=0, spread=1.0)
+    twice = tile_bootstrap_models(psd_iaaft, lognormal_map, 19, seed=0, spread=2.0)
+    for a, b, f in zip(plain, twice, factors):
+        qa, qb = np.asarray(a.marginal["quantiles_um"]), np.asarray(b.marginal["quantiles_um"])
+        assert np.ptp(qb[400:601]) / np.ptp(qa[400:601]) == pytest.approx(np.sqrt(f), rel=1e-6)
     assert variance > 0
 
 

@@ -54,3 +54,22 @@ def test_a_marginal_added_later_merges_into_its_case(tmp_path):
     assert table.loc[("iaaft-tiles", "held-out"), "cases"] == 2
     assert table.loc[("gaussian", "held-out"), "cases"] == 3
     assert "iaaft" not in set(table.index.get_level_values(0))
+
+
+def test_per_parameter_gives_each_parameter_s_share_interval_and_verdict():
+    """200 cases with Sq outside in 20 (10 %, undecided: its interval reaches past 13 %) and Sv
+    in 60 (30 %: no); a parameter never outside: 0 % [0 %, 0 %], no. The half as given."""
+    records = [{"kind": "gaussian", "index": i, "seed": 0, "seconds": 1.0,
+                "checks": {"iaaft-tiles": {"fitted": ["Sq"] * (i < 100),
+                                           "held_out": ["Sq"] * (i % 10 == 0)
+                                           + ["Sv"] * (i % 10 < 3)}}}
+               for i in range(200)]
+    table = ih.per_parameter(records).set_index(["kind", "heights"])
+    row = table.loc[("gaussian", "iaaft-tiles")]
+    assert row["cases"] == 200 and len(table) == 1
+    assert row["Sq"] == "10% [6%, 14%] ?"
+    assert row["Sv"].startswith("30% [") and row["Sv"].endswith(" no")
+    assert row["Sa"] == "0% [0%, 0%] no"
+    assert ih.per_parameter(records, half="fitted").loc[0, "Sq"].startswith("50% [")
+    with pytest.raises(ValueError, match="half must be 'fitted' or 'held_out'"):
+        ih.per_parameter(records, half="B")
