@@ -34,6 +34,10 @@ def test_the_summary_averages_each_case_s_share_of_the_13():
     # at most 2 of 13 outside: case 1 only for IAAFT (3 then 1 outside), both for Gaussian
     assert table.loc[("iaaft", "held-out"), "≤ 2 outside"] == 0.5
     assert table.loc[("gaussian", "held-out"), "≤ 2 outside"] == 1.0
+    # its 95 % upper bound: the mean + 1.96 sd / sqrt(2) of (0, 1), clipped to 1
+    assert table.loc[("iaaft", "held-out"), "≤ 2 outside, 95 % high"] == pytest.approx(
+        min(1.0, 0.5 + 1.96 * np.std([0, 1], ddof=1) / np.sqrt(2)))
+    assert table.loc[("gaussian", "held-out"), "≤ 2 outside, 95 % high"] == 1.0
 
 
 def test_a_marginal_added_later_merges_into_its_case(tmp_path):
