@@ -23,12 +23,34 @@ shrunk towards the population by its precision (the best linear unbiased predict
 so a region whose difference is within its noise keeps the population's value. The spread is
 kept only where Cochran's test rejects one value at ``spread_level`` (1 %; the moment
 estimate alone is above 0 in about half of the sets of regions that share one value), so a
-stationary map comes back stationary in about 99 % of the parameters. Given the regions' positions, the population's
-value may be a plane in position (a meta-regression: Raudenbush's moments for :math:`\tau^2`
-about it), kept only when a Wald test rejects the constant at ``trend_level`` (1 %): a
-roughness gradient or a turning lay is then shrunk towards the plane, not towards one value,
-which would pull the outer regions in. An angle (the lay, period pi) is pooled as its
-difference from the regions' weighted mean direction.
+stationary map comes back stationary in about 99 % of the parameters. Given the regions'
+positions, the population's value may be a plane in position (a meta-regression: Raudenbush's
+moments for :math:`\tau^2` about it), kept only when a Wald test rejects the constant at
+``trend_level`` (1 %): a roughness gradient or a turning lay is then shrunk towards the plane,
+not towards one value, which would pull the outer regions in. An angle (the lay, period pi)
+is pooled as its difference from the regions' weighted mean direction.
+
+**The reported uncertainty.** The variance above treats :math:`\hat\tau` as known, and the
+test may have set it to 0. With 16 regions it is not known: a spread between regions smaller
+than their noise, or a step between two zones (the regions then scatter about the plane in a
+pattern, not as a normal spread), puts the truth outside two such standard errors at many
+more regions than 5 % (``tests/inference/test_random_effects.py`` measures it). The reported
+standard error is therefore the root posterior mean squared error of :math:`\theta_i^*`, with
+:math:`\tau` integrated out (Gelman et al., *Bayesian Data Analysis*, 3rd ed., section 5.4:
+a uniform prior on :math:`\tau`, a flat one on the population's coefficients :math:`\beta`):
+
+.. math::
+    p(\tau \mid \hat\theta) \propto |X^T W_\tau X|^{-1/2} \prod_i (v_i + \tau^2)^{-1/2}
+    \exp\Big(-\tfrac12 \sum_i \frac{(\hat\theta_i - x_i^T\hat\beta_\tau)^2}
+    {v_i + \tau^2}\Big),\qquad
+    \text{sd}_i^2 = \operatorname{Var}(\theta_i \mid \hat\theta)
+    + \big(\theta_i^* - \operatorname{E}(\theta_i \mid \hat\theta)\big)^2,
+
+the posterior's moments mixed over a grid of :math:`\tau` (:func:`tau_posterior_moments`). The
+values themselves stay the plug-in :math:`\theta_i^*` (a stationary map still comes back
+stationary); their errors are what a reader of the fields needs. Where that posterior is
+improper (fewer than two regions more than the population's coefficients) the plug-in variance
+is kept.
 """
 
 from __future__ import annotations
@@ -39,7 +61,10 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.stats
 
-__all__ = ["Pooled", "pool", "wrap_angle"]
+__all__ = ["Pooled", "pool", "tau_posterior_moments", "wrap_angle"]
+
+#: points of the grid over tau in :func:`tau_posterior_moments`
+TAU_GRID_POINTS = 400
 
 
 def wrap_angle(angle):
@@ -61,8 +86,11 @@ class Pooled:
         slope, p_trend: the trend's gradient per unit length ``(d/dx, d/dy)`` (zeros when no
             trend is kept) and the Wald test's p value of a plane over a constant (NaN when no
             positions were given or too few regions).
-        shrunk, shrunk_sd: each region's :math:`\theta_i^*` and its standard error (the
-            population's value and spread for a region without an estimate).
+        shrunk, shrunk_sd: each region's :math:`\theta_i^*` and its standard error, the
+            root posterior mean squared error with :math:`\tau` integrated out (module
+            docstring; the population's value and spread for a region without an estimate).
+        plugin_sd: the standard error that takes :math:`\hat\tau` as known (the formula
+            above), for comparison.
         n_regions: the regions with an estimate.
     """
 
@@ -75,6 +103,7 @@ class Pooled:
     p_trend: float
     shrunk: np.ndarray
     shrunk_sd: np.ndarray
+    plugin_sd: np.ndarray
     n_regions: int
 
 
@@ -171,10 +200,61 @@ def pool(estimates, variances, *, angle=False, positions=None, trend_level=0.01,
     shrink = np.where(known, tau2 / (tau2 + vv), 0.0)
     shrunk = fitted + shrink * (np.where(known, theta, fitted) - fitted)
     rest = np.where(known, vv / (tau2 + vv), 1.0)
-    shrunk_var = np.where(known, shrink * vv, tau2) + rest**2 * fitted_var
+    plugin_var = np.where(known, shrink * vv, tau2) + rest**2 * fitted_var
+    moments = tau_posterior_moments(np.where(known, theta, np.nan), np.where(known, v, np.nan),
+                                    design)
+    if moments is None:
+        shrunk_var = plugin_var
+    else:
+        posterior_mean, posterior_var = moments
+        shrunk_var = posterior_var + (shrunk - posterior_mean) ** 2
     mean, mean_var = float(beta[0]), float(covariance[0, 0])
     if angle:
         shrunk = wrap_angle(shrunk + reference)
         mean = float(wrap_angle(mean + reference))
     return Pooled(mean, math.sqrt(mean_var), math.sqrt(tau2), q, p_homogeneity, slope, p_trend,
-                  shrunk, np.sqrt(shrunk_var), k)
+                  shrunk, np.sqrt(shrunk_var), np.sqrt(plugin_var), k)
+
+
+def tau_posterior_moments(estimates, variances, design):
+    """Each region's posterior mean and variance under the normal random-effects model with
+    :math:`\tau` integrated out (module docstring; Gelman et al., BDA3 section 5.4): a uniform
+    prior on :math:`\tau` and a flat one on the coefficients of ``design`` (``(..., p)``: the
+    population's value, a constant or a plane); NaN estimates mark regions without one, which
+    get the population's predictive moments. None where the posterior is improper (fewer than
+    ``p + 2`` regions with an estimate).
+
+    The posterior of :math:`\tau` is taken on :data:`TAU_GRID_POINTS` points from 0 to 30 times
+    the estimates' own scale (quadratically spaced, denser near 0; its tail falls as
+    :math:`\tau^{-(k-p)}`), and the conditional moments mixed by its weights.
+    """
+    theta = np.asarray(estimates, dtype=np.float64)
+    v = np.asarray(variances, dtype=np.float64)
+    x = np.asarray(design, dtype=np.float64)
+    known = np.isfinite(theta) & np.isfinite(v) & (v > 0)
+    t, vk, xk = theta[known], v[known], x[known]
+    if t.size < x.shape[-1] + 2:
+        return None
+    scale = math.sqrt(max(float(np.var(t)), float(np.median(vk))))
+    taus = 30.0 * scale * np.linspace(0.0, 1.0, TAU_GRID_POINTS + 1) ** 2
+    tau2 = (taus * taus)[:, None]
+    w = 1.0 / (vk + tau2)
+    information = np.einsum("ki,nk,kj->nij", xk, w, xk)
+    inverse = np.linalg.inv(information)
+    beta = np.einsum("nij,kj,nk,k->ni", inverse, xk, w, t)
+    residual = t - beta @ xk.T
+    log_density = -0.5 * (np.linalg.slogdet(information)[1] + np.sum(np.log(vk + tau2), axis=1)
+                          + np.sum(w * residual**2, axis=1))
+    fitted = np.einsum("...j,nj->n...", x, beta)
+    fitted_var = np.einsum("...i,nij,...j->n...", x, inverse, x)
+    tau2 = tau2.reshape((taus.size,) + (1,) * theta.ndim)
+    vv = np.where(known, v, 1.0)
+    shrink = np.where(known, tau2 / (tau2 + vv), 0.0)
+    means = fitted + shrink * (np.where(known, theta, fitted) - fitted)
+    rest = np.where(known, vv / (tau2 + vv), 1.0)
+    variances_given = np.where(known, shrink * vv, tau2) + rest**2 * fitted_var
+    weights = np.exp(log_density - log_density.max()) * np.gradient(taus)
+    weights /= weights.sum()
+    mean = np.tensordot(weights, means, axes=1)
+    second = np.tensordot(weights, variances_given + means**2, axes=1)
+    return mean, np.maximum(second - mean**2, 0.0)
