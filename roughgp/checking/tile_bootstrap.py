@@ -54,6 +54,7 @@ synthetic and real maps is recorded in ``benchmarks/iaaft_held_out.py`` and
 from __future__ import annotations
 
 import dataclasses
+import numbers
 
 import numpy as np
 
@@ -205,8 +206,8 @@ def tile_bootstrap_models(model: FittedModel, z, n_models, *, spacing=None, tile
     why = tile_bootstrap_refusal(model)
     if why:
         raise ValueError(why)
-    if spread is not None and not (isinstance(spread, (int, float)) and not
-                                   isinstance(spread, bool) and 1 <= spread < np.inf):
+    if spread is not None and not (isinstance(spread, numbers.Real) and not
+                                   isinstance(spread, (bool, np.bool_)) and 1 <= spread < np.inf):
         raise ValueError(f"spread must be a finite number >= 1, got {spread!r}")
     heights, filtered = tile_heights(z, spacing, model, tiles)
     if spread is None:

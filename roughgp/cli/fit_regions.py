@@ -27,18 +27,22 @@ def fit_field_command(args, heights, operators, data, z):
     print(f"fitted to {args.file}: {model.describe()}")
     print_operators(model)
     print(f"  {'parameter':<13} {'population':>11} {'spread tau':>11} {'p same':>8} "
-          f"{'p gradient':>11}  kept")
+          f"{'p gradient':>11} {'se anchor':>10}  kept")
     for name in PARAMETERS:
         p = fitted.pooled_of(name)
         kept = ("the tiles' median" if name == "log noise" else
+                f"two zones, {p.step[0]} = {p.step[1]:.4g} um (p {p.p_step:.2g})" if p.step else
                 "a gradient" if p.slope != (0.0, 0.0) else
                 "tile values" if p.tau > 0 else "one value")
         trend = "-" if math.isnan(p.p_trend) else f"{p.p_trend:.3g}"
+        se = "-" if name == "log noise" else f"{float(np.median(p.shrunk_sd)):.3g}"
         print(f"  {name:<13} {p.mean:>11.4g} {p.tau:>11.3g} {p.p_homogeneity:>8.3g} "
-              f"{trend:>11}  {kept}")
+              f"{trend:>11} {se:>10}  {kept}")
     print_wrapped("(log scale but for the angle, in radians; p same: the test that all tiles "
                   "share one value; p gradient: that a plane in position does better, kept "
-                  "below 0.01)")
+                  "below 0.01, as is a step between two zones at its own test; se anchor: "
+                  "the median standard error of the field at the anchors, with the spread's "
+                  "own uncertainty, each anchor's in the model file's fit.anchor_sd)")
     return model
 
 

@@ -8,13 +8,16 @@ spacing 1 um, lambda_a 8, lambda_b 3 um, lay 30 deg, variance 2 um^2, noise 0.05
 - ``stationary``: those values everywhere (the field model must come back stationary);
 - ``gradient``: the variance rises from 1 to 3 um^2 left to right (log-linear);
 - ``turning``: the lay turns from 0 to 60 deg left to right;
-- ``zones``: the variance is 1 um^2 on the left half and 3 um^2 on the right.
+- ``zones``: the variance is 1 um^2 on the left half and 3 um^2 on the right;
+- ``zones-off-grid``: the same with the boundary at 3/8 of the width, inside the second column
+  of the fit's tiles (the fit's steps lie between tiles: the honest case of a part whose zones
+  do not follow the tiles).
 
 Per case (:func:`field_case`): the field model on 4 x 4 tiles
 (:func:`~roughgp.surface_models.field_model.fit_field_model`), its fields at the anchors
 against the truth (the share of anchors where the truth lies within 2 reported standard
-errors, with :math:`\tau` integrated out, and within 2 plug-in ones; for ``zones`` the truth of a
-tile is its own zone's, the boundary lying between tiles),
+errors, with :math:`\tau` integrated out and the forms averaged, and within 2 plug-in ones; the
+truth of a tile is its mean over the tile, of the log for the variance and the lengths),
 the pooling's tests, and the tile check (2 x 4 tiles, 19 simulations;
 :func:`~roughgp.checking.tiles.tile_check`) of eq 18 (fitted by the Whittle likelihood) and of
 the field model, with the share of outside tiles per parameter.
@@ -38,7 +41,7 @@ from roughgp.surface_models.fit import fit_surface_model
 __all__ = ["KINDS", "SHAPE", "TILES", "CHECK_TILES", "true_field", "field_case", "summary",
            "recovery_table", "load_records", "RECORDED"]
 
-KINDS = ("stationary", "gradient", "turning", "zones")
+KINDS = ("stationary", "gradient", "turning", "zones", "zones-off-grid")
 SHAPE = (256, 256)
 TILES = (4, 4)
 CHECK_TILES = (2, 4)
@@ -65,6 +68,8 @@ def true_field(kind, shape=SHAPE, spacing=1.0) -> dict:
         values["angle"] = math.radians(60.0) * fraction
     elif kind == "zones":
         values["variance"] = np.where(fraction < 0.5, 1.0, 3.0)
+    elif kind == "zones-off-grid":
+        values["variance"] = np.where(fraction < 0.375, 1.0, 3.0)
     return values
 
 
@@ -111,6 +116,7 @@ def field_case(kind, index, *, shape=SHAPE, tiles=TILES, n_simulations=19, seed=
             "p_homogeneity": {n: p.p_homogeneity for n, p in zip(PARAMETERS, fitted.pooled)},
             "trend_kept": {n: bool(p.slope != (0.0, 0.0))
                            for n, p in zip(PARAMETERS, fitted.pooled)},
+            "step_kept": {n: bool(p.step) for n, p in zip(PARAMETERS, fitted.pooled)},
             "tile_outside": shares, "seconds": round(time.perf_counter() - began, 1)}
 
 
@@ -123,7 +129,8 @@ def summary(records) -> dict:
     """Per kind recorded: ``cases``; ``covered`` (the share of anchors covered, per field) and
     ``covered_min`` (the least of them), ``covered_plugin_min`` (the least share within the
     plug-in standard errors; NaN for records without it); ``constant``, the share of cases
-    whose four fields came back constant (no spread, no trend); the tile check's mean outside
+    whose four fields came back constant (no spread, no trend, no step), ``variance_step``
+    the share whose variance came back as two zones; the tile check's mean outside
     share per parameter, ``eq18`` and ``field``, and over the four, ``eq18_mean`` and
     ``field_mean``."""
     out = {}
@@ -140,12 +147,26 @@ def summary(records) -> dict:
         out[kind] = {"cases": len(rows), "covered": covered,
                      "covered_min": min(covered.values()),
                      "covered_plugin_min": plugin[0] if plugin else math.nan,
-                     "constant": float(np.mean([all(r["tau"][n] == 0 and not r["trend_kept"][n]
-                                                    for n in fields) for r in rows])),
+                     "constant": float(np.mean([all(_constant(r, n) for n in fields)
+                                                for r in rows])),
+                     "variance_step": float(np.mean([_kept(r, "step_kept", "log variance")
+                                                     for r in rows])),
                      **shares,
                      "eq18_mean": float(np.mean(list(shares["eq18"].values()))),
                      "field_mean": float(np.mean(list(shares["field"].values())))}
     return out
+
+
+def _kept(record, key, name) -> bool:
+    """Whether ``record`` kept a trend (``key`` ``"trend_kept"``) or a step (``"step_kept"``,
+    False in records made before steps) of the parameter ``name``."""
+    return bool(record.get(key, {}).get(name, False))
+
+
+def _constant(record, name) -> bool:
+    """Whether ``name`` came back constant: no spread, no trend, no step."""
+    return (record["tau"][name] == 0 and not _kept(record, "trend_kept", name)
+            and not _kept(record, "step_kept", name))
 
 
 def _covered_cell(rows, name) -> str:
@@ -158,13 +179,14 @@ def _covered_cell(rows, name) -> str:
 
 def recovery_table(records) -> str:
     """Markdown: per kind, the cases, the share of anchors covered per field (with the
-    plug-in standard errors in brackets, where recorded), how often the
-    field came back constant (no spread, no trend) for the variance and the lay, and the
-    tile check's mean outside share of eq 18 and the field model."""
+    plug-in standard errors in brackets, where recorded), how often the variance came back
+    constant (no spread, no trend, no step), with a gradient or with two zones, how often the
+    lay came back constant, and the tile check's mean outside share of eq 18 and the field
+    model."""
     head = ("| kind | cases | anchors covered, tau integrated out (plug-in tau): variance, "
-            "lambda_a, lambda_b, angle | variance "
-            "constant | lay constant | tile check outside, eq 18: Sq, Sal, Str, Std | field "
-            "model: Sq, Sal, Str, Std |")
+            "lambda_a, lambda_b, angle | variance: constant, a gradient, two zones | lay "
+            "constant | tile check outside, eq 18: Sq, Sal, Str, Std | field model: Sq, Sal, "
+            "Str, Std |")
     lines = [head, "|" + "---|" * 7]
     for kind in KINDS:
         rows = [r for r in records if r["kind"] == kind]
@@ -172,12 +194,14 @@ def recovery_table(records) -> str:
             continue
         cover = ", ".join(_covered_cell(rows, n) for n in _COMPARED)
 
-        def constant(name):
-            return np.mean([r["tau"][name] == 0 and not r["trend_kept"][name] for r in rows])
-
+        variance = ", ".join(f"{np.mean(values):.0%}" for values in (
+            [_constant(r, "log variance") for r in rows],
+            [_kept(r, "trend_kept", "log variance") for r in rows],
+            [_kept(r, "step_kept", "log variance") for r in rows]))
         def outside(label):
             return ", ".join(f"{np.mean([r['tile_outside'][label][n] for r in rows]):.0%}"
                              for n in TILE_PARAMETERS)
-        lines.append(f"| {kind} | {len(rows)} | {cover} | {constant('log variance'):.0%} | "
-                     f"{constant('angle'):.0%} | {outside('eq18')} | {outside('field')} |")
+        lay = np.mean([_constant(r, "angle") for r in rows])
+        lines.append(f"| {kind} | {len(rows)} | {cover} | {variance} | {lay:.0%} | "
+                     f"{outside('eq18')} | {outside('field')} |")
     return "\n".join(lines)

@@ -132,6 +132,13 @@ def load_records(path=RECORDED) -> list:
     return list(merged.values())
 
 
+def _outside_sets(records, kind, marginal, half) -> list:
+    """The parameters outside on ``half``, one set per case of ``kind`` checked with
+    ``marginal``."""
+    return [set(r["checks"][marginal][half]) for r in records
+            if r["kind"] == kind and marginal in r["checks"]]
+
+
 def summary(records) -> "pandas.DataFrame":
     """Per kind, marginal and half: the cases, the share of the parameters outside (the mean of
     each case's share of the 13) with its 95 % interval (the cases independent,
@@ -148,8 +155,7 @@ def summary(records) -> "pandas.DataFrame":
             continue
         for marginal in MARGINALS:
             for half in ("fitted", "held_out"):
-                outside = [set(r["checks"][marginal][half]) for r in rows
-                           if marginal in r["checks"]]
+                outside = _outside_sets(rows, kind, marginal, half)
                 if not outside:
                     continue
                 mean = [len(o) / len(SURFACE_PARAMETERS) for o in outside]
@@ -179,8 +185,7 @@ def per_parameter(records, half="held_out") -> "pandas.DataFrame":
     lines = []
     for kind in DESCRIBED:
         for marginal in MARGINALS:
-            outside = [set(r["checks"][marginal][half]) for r in records
-                       if r["kind"] == kind and marginal in r["checks"]]
+            outside = _outside_sets(records, kind, marginal, half)
             if len(outside) < 2:
                 continue
             line = {"kind": kind, "heights": marginal, "cases": len(outside)}

@@ -27,30 +27,27 @@ stationary map comes back stationary in about 99 % of the parameters. Given the 
 positions, the population's value may be a plane in position (a meta-regression: Raudenbush's
 moments for :math:`\tau^2` about it), kept only when a Wald test rejects the constant at
 ``trend_level`` (1 %): a roughness gradient or a turning lay is then shrunk towards the plane,
-not towards one value, which would pull the outer regions in. An angle (the lay, period pi)
-is pooled as its difference from the regions' weighted mean direction.
+not towards one value, which would pull the outer regions in. Or the population's value may
+step between two zones: one value on each side of a boundary midway between two columns (or
+rows) of regions, kept when its Wald test, Bonferroni-adjusted over the candidate boundaries,
+rejects the constant at ``trend_level``. Where the plane's test rejects, the plane along x,
+along y or along both, and the step where its test rejects, compete by :math:`Q + 2p`
+(Akaike's criterion of the weighted fit, :math:`p` coefficients): the smallest is kept.
+An angle (the lay, period pi) is pooled as its difference from the regions' weighted mean
+direction.
 
-**The reported uncertainty.** The variance above treats :math:`\hat\tau` as known, and the
-test may have set it to 0. With 16 regions it is not known: a spread between regions smaller
-than their noise, or a step between two zones (the regions then scatter about the plane in a
-pattern, not as a normal spread), puts the truth outside two such standard errors at many
-more regions than 5 % (``tests/inference/test_random_effects.py`` measures it). The reported
-standard error is therefore the root posterior mean squared error of :math:`\theta_i^*`, with
-:math:`\tau` integrated out (Gelman et al., *Bayesian Data Analysis*, 3rd ed., section 5.4:
-a uniform prior on :math:`\tau`, a flat one on the population's coefficients :math:`\beta`):
-
-.. math::
-    p(\tau \mid \hat\theta) \propto |X^T W_\tau X|^{-1/2} \prod_i (v_i + \tau^2)^{-1/2}
-    \exp\Big(-\tfrac12 \sum_i \frac{(\hat\theta_i - x_i^T\hat\beta_\tau)^2}
-    {v_i + \tau^2}\Big),\qquad
-    \text{sd}_i^2 = \operatorname{Var}(\theta_i \mid \hat\theta)
-    + \big(\theta_i^* - \operatorname{E}(\theta_i \mid \hat\theta)\big)^2,
-
-the posterior's moments mixed over a grid of :math:`\tau` (:func:`tau_posterior_moments`). The
-values themselves stay the plug-in :math:`\theta_i^*` (a stationary map still comes back
-stationary); their errors are what a reader of the fields needs. Where that posterior is
-improper (fewer than two regions more than the population's coefficients) the plug-in variance
-is kept.
+**The reported uncertainty.** The variance above treats :math:`\hat\tau` and the chosen form
+(constant, plane or step) as known, and the tests may have set :math:`\hat\tau` to 0. With 16
+regions neither is known: a spread between regions smaller than their noise, or a gradient
+over four columns of noisy regions that a step fits as well, puts the truth outside two such
+standard errors at many more regions than 5 % (``tests/inference/test_random_effects.py``
+measures it). The reported standard error is therefore the root posterior mean squared error
+of :math:`\theta_i^*`, :math:`\text{sd}_i^2 = \operatorname{Var}(\theta_i \mid \hat\theta) +
+(\theta_i^* - \operatorname{E}(\theta_i \mid \hat\theta))^2`, with :math:`\tau` integrated out
+and the forms averaged (:mod:`roughgp.inference.pooled_errors`). The values themselves stay the
+plug-in :math:`\theta_i^*` (a stationary map still comes back stationary); their errors are
+what a reader of the fields needs. Where no form's posterior is proper (fewer than two regions
+more than its coefficients) the plug-in variance is kept.
 """
 
 from __future__ import annotations
@@ -61,10 +58,10 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.stats
 
-__all__ = ["Pooled", "pool", "tau_posterior_moments", "wrap_angle"]
+from roughgp.inference.pooled_errors import averaged_moments
 
-#: points of the grid over tau in :func:`tau_posterior_moments`
-TAU_GRID_POINTS = 400
+__all__ = ["Pooled", "pool", "wrap_angle"]
+
 
 
 def wrap_angle(angle):
@@ -92,6 +89,10 @@ class Pooled:
         plugin_sd: the standard error that takes :math:`\hat\tau` as known (the formula
             above), for comparison.
         n_regions: the regions with an estimate.
+        step, p_step: ``(axis, boundary)`` (``"x"`` or ``"y"``, the position between two
+            columns or rows of regions) where the population's value steps between two
+            zones, ``()`` when no step is kept; the Bonferroni-adjusted p value of the best
+            step's Wald test over a constant (NaN without positions or candidates).
     """
 
     mean: float
@@ -105,6 +106,8 @@ class Pooled:
     shrunk_sd: np.ndarray
     plugin_sd: np.ndarray
     n_regions: int
+    step: tuple = ()
+    p_step: float = math.nan
 
 
 def _moments(t, v, design, level=None):
@@ -138,9 +141,10 @@ def pool(estimates, variances, *, angle=False, positions=None, trend_level=0.01,
         angle: the parameter is a lay angle in radians (period pi).
         positions: optional ``(..., 2)`` array of the regions' centres ``(x, y)``: the
             population's value may then be a plane in position (a gradient across the part),
-            kept when its Wald test rejects a constant at ``trend_level``; the regions then
-            scatter about the plane and are shrunk towards it.
-        trend_level: the trend test's level, in (0, 1).
+            kept when its Wald test rejects a constant at ``trend_level``, or a step between
+            two zones (module docstring); the regions then scatter about the plane or the
+            zones' values and are shrunk towards them.
+        trend_level: the level of the tests of a trend and of a step, in (0, 1).
         spread_level: the level of the test of a spread about the population (or the
             trend), in (0, 1): tau is set to 0, and every region shrunk to the population, unless
             Cochran's Q rejects one value at this level (the moment estimate alone is above 0
@@ -176,24 +180,41 @@ def pool(estimates, variances, *, angle=False, positions=None, trend_level=0.01,
     tau2, beta, covariance, q = _moments(t, vk, design[known], spread_level)
     p_homogeneity = float(scipy.stats.chi2.sf(q, k - 1))
     slope, p_trend = (0.0, 0.0), math.nan
+    step, p_step = (), math.nan
+    forms = [design]        # every form the population's value might take, for the errors
     if positions is not None:
         xy = np.asarray(positions, dtype=np.float64)
         if xy.shape != theta.shape + (2,):
             raise ValueError(f"positions must have shape {theta.shape + (2,)}, got {xy.shape}")
         centre = xy[known].mean(axis=0)
         varying = [c for c in range(2) if np.ptp(xy[known][:, c]) > 0]
+        kept = []       # (criterion, design, tau2, beta, covariance, slope, step)
         if varying and k >= len(varying) + 3:
             plane = np.concatenate([np.ones(theta.shape + (1,)),
                                     (xy - centre)[..., varying]], axis=-1)
-            tau2_t, beta_t, cov_t, _ = _moments(t, vk, plane[known], spread_level)
-            b, c = beta_t[1:], cov_t[1:, 1:]
-            p_trend = float(scipy.stats.chi2.sf(float(b @ np.linalg.solve(c, b)), b.size))
-            if p_trend < trend_level:
-                design, tau2, beta, covariance = plane, tau2_t, beta_t, cov_t
-                gradient = [0.0, 0.0]
-                for index, axis in enumerate(varying):
-                    gradient[axis] = float(b[index])
-                slope = tuple(gradient)
+            p_trend, _ = _against_constant(t, vk, plane[known], spread_level)
+            for axes in ([[c] for c in varying] + ([varying] if len(varying) > 1 else [])):
+                plane = np.concatenate([np.ones(theta.shape + (1,)),
+                                        (xy - centre)[..., axes]], axis=-1)
+                forms.append(plane)
+                if p_trend < trend_level:       # the plane along x, y or both competes
+                    fit = _moments(t, vk, plane[known], spread_level)
+                    gradient = [0.0, 0.0]
+                    for index, axis in enumerate(axes):
+                        gradient[axis] = float(fit[1][1 + index])
+                    kept.append((fit[3] + 2 * plane.shape[-1], plane, *fit[:3],
+                                 tuple(gradient), ()))
+        steps = _step_designs(xy, known, varying)
+        forms += [d for d, _ in steps]
+        if steps:
+            tests = [(_against_constant(t, vk, d[known], spread_level), d, where)
+                     for d, where in steps]
+            (p_best, fit), d, where = min(tests, key=lambda test: test[0][0])
+            p_step = min(1.0, p_best * len(steps))      # Bonferroni over the candidates
+            if p_step < trend_level:
+                kept.append((fit[3] + 2 * d.shape[-1], d, *fit[:3], (0.0, 0.0), where))
+        if kept:
+            _, design, tau2, beta, covariance, slope, step = min(kept, key=lambda c: c[0])
     fitted = design @ beta
     fitted_var = np.einsum("...i,ij,...j->...", design, covariance, design)
     vv = np.where(known, v, 1.0)
@@ -201,8 +222,8 @@ def pool(estimates, variances, *, angle=False, positions=None, trend_level=0.01,
     shrunk = fitted + shrink * (np.where(known, theta, fitted) - fitted)
     rest = np.where(known, vv / (tau2 + vv), 1.0)
     plugin_var = np.where(known, shrink * vv, tau2) + rest**2 * fitted_var
-    moments = tau_posterior_moments(np.where(known, theta, np.nan), np.where(known, v, np.nan),
-                                    design)
+    moments = averaged_moments(np.where(known, theta, np.nan), np.where(known, v, np.nan),
+                               forms)
     if moments is None:
         shrunk_var = plugin_var
     else:
@@ -213,48 +234,31 @@ def pool(estimates, variances, *, angle=False, positions=None, trend_level=0.01,
         shrunk = wrap_angle(shrunk + reference)
         mean = float(wrap_angle(mean + reference))
     return Pooled(mean, math.sqrt(mean_var), math.sqrt(tau2), q, p_homogeneity, slope, p_trend,
-                  shrunk, np.sqrt(shrunk_var), np.sqrt(plugin_var), k)
+                  shrunk, np.sqrt(shrunk_var), np.sqrt(plugin_var), k, step, p_step)
 
 
-def tau_posterior_moments(estimates, variances, design):
-    """Each region's posterior mean and variance under the normal random-effects model with
-    :math:`\tau` integrated out (module docstring; Gelman et al., BDA3 section 5.4): a uniform
-    prior on :math:`\tau` and a flat one on the coefficients of ``design`` (``(..., p)``: the
-    population's value, a constant or a plane); NaN estimates mark regions without one, which
-    get the population's predictive moments. None where the posterior is improper (fewer than
-    ``p + 2`` regions with an estimate).
+def _against_constant(t, v, design, spread_level):
+    """The Wald test's p value of ``design``'s coefficients but the first (the constant) and
+    the fit about ``design``: ``(p, (tau2, beta, covariance, q))``, ``q`` the residual Q."""
+    tau2, beta, covariance, q = _moments(t, v, design, spread_level)
+    b, c = beta[1:], covariance[1:, 1:]
+    p = float(scipy.stats.chi2.sf(float(b @ np.linalg.solve(c, b)), b.size))
+    return p, (tau2, beta, covariance, q)
 
-    The posterior of :math:`\tau` is taken on :data:`TAU_GRID_POINTS` points from 0 to 30 times
-    the estimates' own scale (quadratically spaced, denser near 0; its tail falls as
-    :math:`\tau^{-(k-p)}`), and the conditional moments mixed by its weights.
-    """
-    theta = np.asarray(estimates, dtype=np.float64)
-    v = np.asarray(variances, dtype=np.float64)
-    x = np.asarray(design, dtype=np.float64)
-    known = np.isfinite(theta) & np.isfinite(v) & (v > 0)
-    t, vk, xk = theta[known], v[known], x[known]
-    if t.size < x.shape[-1] + 2:
-        return None
-    scale = math.sqrt(max(float(np.var(t)), float(np.median(vk))))
-    taus = 30.0 * scale * np.linspace(0.0, 1.0, TAU_GRID_POINTS + 1) ** 2
-    tau2 = (taus * taus)[:, None]
-    w = 1.0 / (vk + tau2)
-    information = np.einsum("ki,nk,kj->nij", xk, w, xk)
-    inverse = np.linalg.inv(information)
-    beta = np.einsum("nij,kj,nk,k->ni", inverse, xk, w, t)
-    residual = t - beta @ xk.T
-    log_density = -0.5 * (np.linalg.slogdet(information)[1] + np.sum(np.log(vk + tau2), axis=1)
-                          + np.sum(w * residual**2, axis=1))
-    fitted = np.einsum("...j,nj->n...", x, beta)
-    fitted_var = np.einsum("...i,nij,...j->n...", x, inverse, x)
-    tau2 = tau2.reshape((taus.size,) + (1,) * theta.ndim)
-    vv = np.where(known, v, 1.0)
-    shrink = np.where(known, tau2 / (tau2 + vv), 0.0)
-    means = fitted + shrink * (np.where(known, theta, fitted) - fitted)
-    rest = np.where(known, vv / (tau2 + vv), 1.0)
-    variances_given = np.where(known, shrink * vv, tau2) + rest**2 * fitted_var
-    weights = np.exp(log_density - log_density.max()) * np.gradient(taus)
-    weights /= weights.sum()
-    mean = np.tensordot(weights, means, axes=1)
-    second = np.tensordot(weights, variances_given + means**2, axes=1)
-    return mean, np.maximum(second - mean**2, 0.0)
+
+def _step_designs(xy, known, varying):
+    """The designs of a step between two zones: a constant plus an indicator of the regions
+    beyond a boundary midway between two neighbouring columns (``x``) or rows (``y``) of
+    regions, at least two regions with an estimate on each side; ``[(design, (axis,
+    boundary)), ...]``."""
+    designs = []
+    for axis in varying:
+        coordinate = xy[..., axis]
+        levels = np.unique(coordinate[known])
+        for boundary in (levels[:-1] + levels[1:]) / 2:
+            beyond = coordinate > boundary
+            if min(int(np.sum(beyond & known)), int(np.sum(~beyond & known))) < 2:
+                continue
+            design = np.stack([np.ones(coordinate.shape), beyond.astype(np.float64)], axis=-1)
+            designs.append((design, ("xy"[axis], float(boundary))))
+    return designs

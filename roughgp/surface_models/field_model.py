@@ -7,18 +7,23 @@ fitted on each by the debiased Whittle likelihood, with its sandwich covariance
 (:mod:`roughgp.inference.tile_fit`: local likelihood on disjoint windows). Each parameter
 (log variance, log lengths, the lay angle, log noise) is then pooled over the tiles by the
 normal random-effects model (:mod:`roughgp.inference.random_effects`): a population mean
-(or a plane in position, where a Wald test at 1 % keeps it), a spread between tiles
+(or a plane in position, or a step between two zones at a boundary between two columns or rows
+of tiles, where a Wald test at 1 % keeps it), a spread between tiles
 :math:`\tau` with its test of homogeneity, and each tile's value shrunk towards the
 population by its precision. A stationary map gives :math:`\hat\tau = 0` for most
 parameters and comes back (nearly) stationary; a roughness gradient or a turning lay keeps its
 variation. The model file holds the shrunk values at the tile centres (the anchors), the
 noise as the tiles' median (one number: a small tile's noise is often at its bound, where its
-standard error means nothing, and the pooled value followed those tiles), and the pooling's
-tests in ``fit``.
+standard error means nothing, and the pooled value followed those tiles), and in ``fit`` the
+pooling's tests and ``anchor_sd``, each field's standard error at the anchors (log scale, the
+angle in radians; :math:`\tau` integrated out, so the truth lies within two of them at about
+95 % of the anchors: :mod:`roughgp.inference.random_effects`).
 
-**Draw** (:mod:`roughgp.surface_models.field_draw`). The fields are interpolated bilinearly between the anchors (log scale for the
-variance and the lengths, the angle as its difference from the mean lay), continued linearly
-to the outer tiles' edges and held constant beyond; the surface is drawn by the K-kernel blend of
+**Draw** (:mod:`roughgp.surface_models.field_draw`). The fields are interpolated bilinearly
+between the anchors (log scale for the variance and the lengths, the angle as its difference
+from the mean lay), continued linearly to the outer tiles' edges and held constant beyond; a
+field with a step (the model file's ``steps``) is interpolated on each side of its boundary
+from that side's anchors alone, and jumps there; the surface is drawn by the K-kernel blend of
 :func:`roughgp.models.nonstationary.sample_nonstationary` (``FIELD_KERNELS`` kernels; its
 local variance is exact, its correlation approximate: see that module). Positions count from
 the fitted map's first point, so a draw of the fitted shape lies on the fitted map.
@@ -95,10 +100,13 @@ def fit_field_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, a
                         positions=positions) for k in range(len(PARAMETERS)))
     fields = {name: np.exp(pooled[k].shrunk) for name, k in _LOGS.items()}
     fields["angle_deg"] = np.degrees(pooled[3].shrunk)
+    steps = {name: {"axis": pooled[k].step[0], "at_um": pooled[k].step[1]}
+             for name, k in (*_LOGS.items(), ("angle_deg", 3)) if pooled[k].step}
     finite = heights[np.isfinite(heights)]
     hyper = {"anchors_x_um": [float(x) for x in fits.centres_x],
              "anchors_y_um": [float(y) for y in fits.centres_y],
              **{name: np.asarray(values).tolist() for name, values in fields.items()},
+             **({"steps": steps} if steps else {}),
              "noise_variance_um2": float(np.exp(np.nanmedian(fits.estimates[..., 4]))),
              "mean_um": float(finite.mean())}
     missing = ~np.isfinite(heights)
@@ -113,6 +121,10 @@ def fit_field_model(z, spacing=1.0, *, form="plane", s=None, l=None, degree=2, a
                              for name, p in zip(PARAMETERS, pooled)},
            "trend_p": {name: None if math.isnan(p.p_trend) else round(p.p_trend, 6)
                        for name, p in zip(PARAMETERS, pooled)},
+           "step_p": {name: None if math.isnan(p.p_step) else round(p.p_step, 6)
+                      for name, p in zip(PARAMETERS, pooled)},
+           "anchor_sd": {name: np.round(p.shrunk_sd, 6).tolist()
+                         for name, p in zip(PARAMETERS[:4], pooled[:4])},
            "seconds": round(time.perf_counter() - start, 2)}
     model = FittedModel("eq18-field", hyper, (dy, dx), None, tuple(texture.operators), cutoffs,
                         described, how, "form-removed")

@@ -250,6 +250,8 @@ class FittedModel:
                                                         ("lambda_b", "lambda_b_um", " um"),
                                                         ("angle", "angle_deg", " deg")))
             text = f"eq 18 with parameter fields on {rows} x {cols} anchors: {ranges}"
+            text += "".join(f"; {name.split('_')[0]} steps at {step['axis']} = "
+                            f"{step['at_um']:.4g} um" for name, step in hp.get("steps", {}).items())
         elif self.equation == "eq18-population":
             text = (f"eq 18 over a population of {hp['regions']} regions: variance "
                     f"{hp['variance_um2']:.4g} um^2 (x/ {math.exp(hp['log_variance_sd']):.3g} "

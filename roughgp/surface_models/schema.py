@@ -11,9 +11,9 @@ holds a value of the wrong type (``true`` is not a number) or out of its range (
 
 from __future__ import annotations
 
-import math
-
 from roughgp.surface_models import psd_core
+from roughgp.surface_models.schema_numbers import (RANGES, ModelFileError, is_number, number,
+                                                   numbers_list)
 
 __all__ = ["ModelFileError", "MODEL_FORMAT", "MODEL_VERSIONS", "STAGES", "EQUATIONS", "RANGES",
            "MAX_DEPTH", "MAX_FILE_BYTES", "MAX_MIXTURES", "MAX_SM2D_COMPONENTS",
@@ -93,88 +93,11 @@ FIT_INTEGERS = {"seed": (0, 2**32 - 1), "block": (4, 1024), "n_blocks": (1, 1000
 FIT_LIKELIHOODS = ("blocks", "whittle")
 FORMS = ("plane", "polynomial", "cylinder", None)
 AXES = ("auto", "x", "y")
-#: name -> (low, high, low included): the allowed range of each number (um, um^2, deg, 1/um)
-RANGES = {
-    "spacing_um": (1e-6, 1e6, True),  # the readers' step (roughgp.io.plausibility): 1 pm to 1 m
-    "variance_um2": (0.0, 1e12, False),
-    "weights_um2": (0.0, 1e12, False),
-    "noise_variance_um2": (0.0, 1e12, True),
-    "lambda_a_um": (0.0, 1e9, False), "lambda_b_um": (0.0, 1e9, False),
-    "angle_deg": (-360.0, 360.0, True),
-    "frequencies_per_um": (0.0, 1e9, True),
-    "spectral_variances_per_um2": (0.0, 1e18, False),
-    "mean_um": (-1e9, 1e9, True),
-    "skewness": (-100.0, 100.0, True),
-    "kurtosis": (1.0, 1e6, False),
-    "s_um": (0.0, 1e9, False),
-    "l_um": (0.0, 1e9, False),
-    "degree": (0, 10, True),
-    "psd_um4": (0.0, 1e30, True),
-    "quantiles_um": (-1e9, 1e9, True),
-    "tail_probability": (0.0, 0.25, False),
-    "order_scores": (-40.0, 40.0, True),  # normal scores (roughgp.surface_models.order_scores)
-    "frequency_min_per_um": (0.0, 1e9, False), "frequency_max_per_um": (0.0, 1e9, False),
-    "frequencies_x_per_um": (-1e9, 1e9, True), "frequencies_y_per_um": (-1e9, 1e9, True),
-    "bandwidths_a_per_um": (0.0, 1e9, False), "bandwidths_b_per_um": (0.0, 1e9, False),
-    "axes_deg": (-360.0, 360.0, True),
-    "anchors_x_um": (-1e9, 1e9, True), "anchors_y_um": (-1e9, 1e9, True),
-    "feed_um": (0.0, 1e9, False),
-    "lambda_um": (0.0, 1e9, False),
-    "origin_um": (0.0, 1e9, True),
-    "mark_um": (-1e9, 1e9, True),
-    "shift_sd_um": (0.0, 1e9, True),
-    "shift_rho": (0.0, 0.99, True),
-    "depth_sd_um": (0.0, 1e9, True),
-    "depth_rho": (0.0, 0.99, True),
-    "lay_sd_um": (0.0, 1e9, True),
-    "depth_length_um": (0.0, 1e9, False),
-    "log_variance_sd": (0.0, 3.0, True), "log_lambda_a_sd": (0.0, 3.0, True),  # 3: x/ 20
-    "log_lambda_b_sd": (0.0, 3.0, True), "angle_sd_deg": (0.0, 180.0, True),
-}
 #: the population model's fewest and most regions
 POPULATION_REGIONS = (2, 100000)
 _TOP = {"format", "version", "equation", "kind", "stage", "description", "hyperparameters",
         "spacing_um", "marginal", "operators", "cutoffs", "data", "fit", "roughgp_version"}
 _REQUIRED = ("format", "version", "equation", "hyperparameters", "spacing_um")
-
-
-class ModelFileError(ValueError):
-    """A model file that is not a roughgp model, of another version, or incomplete."""
-
-
-def _is_number(value) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool)
-
-
-def number(name, value, *, where=None):
-    """``value`` as a float, refused unless it is a number (not a bool, not a string) within
-    ``RANGES[name]``."""
-    label = where or name
-    if not _is_number(value) and not _numpy_number(value):
-        raise ModelFileError(f"{label} must be a number, got {value!r}")
-    value = float(value)
-    low, high, closed = RANGES[name]
-    if not math.isfinite(value) or value > high or value < low or (value == low and not closed):
-        bracket = "[" if closed else "("
-        raise ModelFileError(f"{label} must be a finite number in {bracket}{low:g}, {high:g}], "
-                             f"got {value!r}")
-    return value
-
-
-def _numpy_number(value) -> bool:
-    import numpy as np
-    return isinstance(value, np.number) and not isinstance(value, np.bool_)
-
-
-def _numbers(name, values, count=None):
-    if hasattr(values, "tolist"):
-        values = values.tolist()
-    if not isinstance(values, (list, tuple)) or not values:
-        raise ModelFileError(f"{name} must be a non-empty list of numbers, got {values!r}")
-    if count is not None and len(values) not in count:
-        raise ModelFileError(f"{name} must hold {' or '.join(map(str, count))} values, got "
-                             f"{len(values)}")
-    return [number(name, v, where=f"{name}[{i}]") for i, v in enumerate(values)]
 
 
 def _depth(value, level=1):
@@ -198,12 +121,13 @@ def check_fields(equation, hyperparameters, spacing, marginal, cutoffs, stage, o
     if missing:
         raise ModelFileError(f"the {equation} model lacks {', '.join(missing)}")
     extra = sorted(set(hyperparameters) - set(names) - set(OPTIONAL_HYPERPARAMETERS)
-                   - set(psd_core.KEYS if equation == "measured-psd" else ()))
+                   - set(psd_core.KEYS if equation == "measured-psd" else ())
+                   - ({"steps"} if equation == "eq18-field" else set()))
     if extra:
         raise ModelFileError(f"the {equation} model has unknown hyperparameters "
                              f"{', '.join(map(str, extra))} (it takes {', '.join(names)})")
     hp = hyperparameters
-    spacing = _numbers("spacing_um", spacing, count=(2 if kind == "surface" else 1,))
+    spacing = numbers_list("spacing_um", spacing, count=(2 if kind == "surface" else 1,))
     number("noise_variance_um2", hp["noise_variance_um2"])
     if "mean_um" in hp:
         number("mean_um", hp["mean_um"])
@@ -217,7 +141,7 @@ def check_fields(equation, hyperparameters, spacing, marginal, cutoffs, stage, o
         for name in ("log_variance_sd", "log_lambda_a_sd", "log_lambda_b_sd", "angle_sd_deg"):
             number(name, hp[name])
         regions = hp["regions"]
-        if not (_is_number(regions) and float(regions).is_integer()
+        if not (is_number(regions) and float(regions).is_integer()
                 and POPULATION_REGIONS[0] <= regions <= POPULATION_REGIONS[1]):
             raise ModelFileError(f"regions must be an integer in [{POPULATION_REGIONS[0]}, "
                                  f"{POPULATION_REGIONS[1]}] (the regions pooled), got "
@@ -238,10 +162,10 @@ def check_fields(equation, hyperparameters, spacing, marginal, cutoffs, stage, o
                 raise ModelFileError(f"{name} must be within [1e-3, 1e7] spacings "
                                      f"([{1e-3 * min(spacing):g}, {1e7 * max(spacing):g}] um), "
                                      f"got {hp[name]!r}")
-        if equation == "eq18-matern" and (not _is_number(hp["nu"]) or hp["nu"] not in (1.5, 2.5)):
+        if equation == "eq18-matern" and (not is_number(hp["nu"]) or hp["nu"] not in (1.5, 2.5)):
             raise ModelFileError(f"nu must be 1.5 or 2.5 (0.5 is eq 18), got {hp['nu']!r}")
     elif equation == "eq21":
-        lists = [_numbers(n, hp[n], count=range(1, MAX_MIXTURES + 1)) for n in names[:3]]
+        lists = [numbers_list(n, hp[n], count=range(1, MAX_MIXTURES + 1)) for n in names[:3]]
         if len({len(v) for v in lists}) != 1:
             raise ModelFileError("weights_um2, frequencies_per_um and "
                                  "spectral_variances_per_um2 must have the same length")
@@ -279,13 +203,13 @@ def _check_iaaft(marginal):
         raise ModelFileError(f"quantiles_um must be a list of {QUANTILES[0]} to {QUANTILES[1]} "
                              f"heights (um), got {type(q).__name__}"
                              + (f" of {len(q)}" if isinstance(q, (list, tuple)) else ""))
-    q = _numbers("quantiles_um", q)
+    q = numbers_list("quantiles_um", q)
     if any(b < a for a, b in zip(q, q[1:])) or not q[-1] > q[0]:
         raise ModelFileError("quantiles_um must be non-decreasing and not all equal (the "
                              "quantile function of the heights)")
     number("tail_probability", marginal["tail_probability"], where="marginal tail_probability")
     if "order_scores" in marginal:   # roughgp.surface_models.order_scores
-        keys = _numbers("order_scores", marginal["order_scores"], count=(len(q),))
+        keys = numbers_list("order_scores", marginal["order_scores"], count=(len(q),))
         if any(b <= a for a, b in zip(keys, keys[1:])):
             raise ModelFileError("order_scores must be strictly increasing (one normal score "
                                  "per quantile)")
@@ -332,10 +256,11 @@ def _check_psd(hp):
 def _check_field(hp, spacing):
     """The eq18-field model: 1 to :data:`MAX_ANCHORS` strictly increasing anchors per axis,
     and each field of :data:`FIELD_NAMES` a list of ``len(anchors_y_um)`` rows of
-    ``len(anchors_x_um)`` numbers in the range of the stationary eq 18's."""
+    ``len(anchors_x_um)`` numbers in the range of the stationary eq 18's; optionally
+    ``steps``, per field the boundary of two zones (:func:`_check_steps`)."""
     axes = {}
     for name in ("anchors_x_um", "anchors_y_um"):
-        values = _numbers(name, hp[name], count=range(1, MAX_ANCHORS + 1))
+        values = numbers_list(name, hp[name], count=range(1, MAX_ANCHORS + 1))
         if any(b <= a for a, b in zip(values, values[1:])):
             raise ModelFileError(f"{name} must be strictly increasing, got {values!r:.200}")
         axes[name] = values
@@ -354,6 +279,29 @@ def _check_field(hp, spacing):
                     raise ModelFileError(f"{name}[{i}][{j}] must be within [1e-3, 1e7] spacings "
                                          f"([{1e-3 * min(spacing):g}, {1e7 * max(spacing):g}] "
                                          f"um), got {value!r}")
+    if "steps" in hp:
+        _check_steps(hp["steps"], axes)
+
+
+def _check_steps(steps, axes):
+    """``steps``: an object whose keys are fields of :data:`FIELD_NAMES` and whose values are
+    ``{"axis": "x" or "y", "at_um": b}``, ``b`` strictly between two neighbouring anchors of
+    that axis (the field steps there between two zones)."""
+    if not isinstance(steps, dict):
+        raise ModelFileError(f"steps must be an object (field -> its step), got {steps!r:.120}")
+    for name, step in steps.items():
+        if name not in FIELD_NAMES:
+            raise ModelFileError(f"steps has an unknown field {name!r:.60} (it takes "
+                                 f"{', '.join(FIELD_NAMES)})")
+        if not isinstance(step, dict) or set(step) != {"axis", "at_um"} or \
+                step["axis"] not in ("x", "y"):
+            raise ModelFileError(f"steps.{name} must be {{\"axis\": \"x\" or \"y\", "
+                                 f"\"at_um\": a position}}, got {step!r:.120}")
+        anchors = axes[f"anchors_{step['axis']}_um"]
+        at = number(f"anchors_{step['axis']}_um", step["at_um"], where=f"steps.{name}.at_um")
+        if not any(a < at < b for a, b in zip(anchors, anchors[1:])):
+            raise ModelFileError(f"steps.{name}.at_um must lie strictly between two "
+                                 f"neighbouring anchors_{step['axis']}_um, got {at!r}")
 
 
 def _check_periodic(hp, spacing):
@@ -361,7 +309,7 @@ def _check_periodic(hp, spacing):
     ``MARK_SAMPLES[0]`` spacings of that axis; the mark ``MARK_SAMPLES`` heights; the origin
     within one feed; shifts of at most a quarter feed; correlations in [0, 0.99]."""
     direction = hp.get("feed_direction_deg", 0)     # a profile's marks repeat along it
-    if not _is_number(direction) or direction not in FEED_DIRECTIONS:
+    if not is_number(direction) or direction not in FEED_DIRECTIONS:
         raise ModelFileError(f"feed_direction_deg must be 0 (the marks repeat along x) or 90 "
                              f"(along y), got {direction!r}")
     step = spacing[-1] if direction == 0 else spacing[0]
@@ -374,7 +322,7 @@ def _check_periodic(hp, spacing):
         raise ModelFileError(f"mark_um must be a list of {MARK_SAMPLES[0]} to {MARK_SAMPLES[1]} "
                              f"heights (um), got {type(mark).__name__}"
                              + (f" of {len(mark)}" if isinstance(mark, list) else ""))
-    _numbers("mark_um", mark)
+    numbers_list("mark_um", mark)
     if not number("origin_um", hp["origin_um"]) < feed:
         raise ModelFileError(f"origin_um must be in [0, feed_um = {feed:g}), got "
                              f"{hp['origin_um']!r}")
@@ -396,7 +344,7 @@ def _check_sm2d(hp, spacing):
     length, each frequency within the Nyquist frequency of its axis at ``spacing`` (dy, dx), each
     bandwidth within :data:`SM2D_BANDWIDTHS` times the Nyquist frequency."""
     names = EQUATIONS["sm2d"][1][:6]
-    lists = {n: _numbers(n, hp[n], count=range(1, MAX_SM2D_COMPONENTS + 1)) for n in names}
+    lists = {n: numbers_list(n, hp[n], count=range(1, MAX_SM2D_COMPONENTS + 1)) for n in names}
     if len({len(v) for v in lists.values()}) != 1:
         raise ModelFileError(f"{', '.join(names)} must have the same length")
     nyquist = {"frequencies_y_per_um": 0.5 / spacing[0], "frequencies_x_per_um": 0.5 / spacing[1]}

@@ -92,6 +92,14 @@ def _log_variance_spreads(model, spread, n_maps=100, shape=(64, 64)):
     return np.std(crops, ddof=1), np.mean(boots)
 
 
+def test_a_numpy_number_is_a_spread_like_any_other():
+    """``np.int64(2)`` (a factor read from an array) gives the models ``2.0`` gives."""
+    long = eq18_model(1.0, 12.0, 12.0, 0.0, 0.0)
+    z = np.random.default_rng(3).standard_normal((64, 64))
+    assert [m.to_dict() for m in tile_bootstrap_models(long, z, 2, spread=np.int64(2))] \
+        == [m.to_dict() for m in tile_bootstrap_models(long, z, 2, spread=2.0)]
+
+
 def test_the_spread_factor_widens_the_tiles_to_the_crops_spread():
     """Lengths of 3/4 of a tile: the plain bootstrap spreads a crop's log variance about 2/3 as
     wide as independent crops of the model do; raised to the model's own factor, as wide (the
@@ -108,7 +116,7 @@ def test_the_spread_factor_widens_the_tiles_to_the_crops_spread():
     holes[20:40, 20:40] = np.nan     # the holes kept in the draws: a factor of its own
     assert tile_spread_factor(long, holes, seed=0) != factor
     assert tile_spread_factor(long, holes, seed=0) == tile_spread_factor(long, holes, seed=0)
-    for bad in (0.5, float("nan"), np.inf, True):
+    for bad in (0.5, float("nan"), np.inf, True, np.bool_(True), "2"):
         with pytest.raises(ValueError, match="spread must be a finite number >= 1"):
             tile_bootstrap_models(long, np.zeros((64, 64)), 2, spread=bad)
     with pytest.raises(ValueError, match="draws must be an integer >= 2"):

@@ -36,12 +36,15 @@ def gradient_fit():
 
 
 def test_the_variance_field_follows_a_gradient(gradient_fit):
-    """Variance 1 to 3 um^2 left to right: the fitted field rises along x, the trend is kept,
-    and the truth lies within 2 reported standard errors at the anchors."""
+    """Variance 1 to 3 um^2 left to right: the trend's test rejects a constant, the fitted
+    field rises along x (as a plane or, on four columns of noisy tiles, as a step: on this map
+    the left column's tiles lie low and a step between it and the others fits better), and
+    the truth lies within 2 reported standard errors at the anchors."""
     pooled = gradient_fit.pooled_of("log variance")
-    assert pooled.p_trend < 0.01 and pooled.slope[0] > 0
+    assert pooled.p_trend < 0.01 and (pooled.slope[0] > 0 or pooled.step[:1] == ("x",))
     variance = np.asarray(gradient_fit.model.hyperparameters["variance_um2"])
-    assert np.all(np.diff(variance, axis=1) > 0)
+    assert np.all(np.diff(variance, axis=1) >= 0)
+    assert np.all(variance[:, -1] > 1.5 * variance[:, 0])
     truth = np.log(3.0 ** (gradient_fit.tiles.centres_x / 255))
     assert np.mean(np.abs(pooled.shrunk - truth[None, :]) <= 2 * pooled.shrunk_sd) >= 0.75
     lengths = np.asarray(gradient_fit.model.hyperparameters["lambda_a_um"])
@@ -86,11 +89,37 @@ def _record(model, **changes):
     (dict(anchors_x_um=[1.0, 1.0, 2.0, 3.0]), "anchors_x_um must be strictly increasing"),
     (dict(angle_deg=[[1.0] * 4, [1.0, 2.0, 3.0, "4"]]), "angle_deg[1][3] must be a number"),
     (dict(anchors_y_um=list(range(40))), "anchors_y_um must hold"),
+    (dict(steps=[1.0]), "steps must be an object"),
+    (dict(steps={"noise": {"axis": "x", "at_um": 100.0}}), "steps has an unknown field"),
+    (dict(steps={"variance_um2": {"axis": "z", "at_um": 100.0}}), "steps.variance_um2 must be"),
+    (dict(steps={"variance_um2": {"axis": "x", "at_um": 1e6}}),
+     "steps.variance_um2.at_um must lie strictly between"),
+    (dict(steps={"variance_um2": {"axis": "x", "at_um": float("nan")}}),
+     "steps.variance_um2.at_um must be a finite number"),
 ])
 def test_the_schema_refuses_a_bad_field(gradient_fit, changes, words):
     with pytest.raises(ModelFileError) as error:
         FittedModel.from_dict(_record(gradient_fit.model, **changes))
     assert words in str(error.value)
+
+
+def test_two_zones_are_fitted_and_drawn_as_two_zones():
+    """Variance 1 and 3 um^2 on the two halves: the fit keeps a step of the variance at the
+    boundary between the middle tiles (not a gradient), the model file holds it, the field
+    jumps there, and the draws' variance is about 3 times larger right of it than left."""
+    fitted = fit_field_model(_map("zones", 5), 1.0, tiles=(2, 4), n_draws=20, seed=0)
+    pooled = fitted.pooled_of("log variance")
+    assert pooled.step == ("x", float(np.mean(fitted.tiles.centres_x[1:3])))
+    assert pooled.slope == (0.0, 0.0) and pooled.p_step < 0.01
+    again = FittedModel.from_dict(json.loads(json.dumps(fitted.model.to_dict())))
+    assert again.hyperparameters["steps"] == {"variance_um2": {"axis": "x",
+                                                               "at_um": pooled.step[1]}}
+    variance = field_at(again, (128, 256))["variance"]
+    assert np.ptp(variance[:, :128]) < 1e-9 and np.ptp(variance[:, 128:]) < 1e-9
+    assert 2.0 < variance[0, -1] / variance[0, 0] < 4.5
+    draws = again.simulate((128, 256), seed=6, n_samples=8)
+    assert 2.0 < draws[:, :, 128:].var() / draws[:, :, :128].var() < 4.5
+    assert "variance steps at x = " in again.describe()
 
 
 def test_the_schema_refuses_a_marginal(gradient_fit):
@@ -112,7 +141,10 @@ def test_the_commands_fit_check_and_refuse(capsys, tmp_path, gradient_fit):
                            "--anchors", 2, 2, "--l-filter", "none", "--out",
                            tmp_path / "f.json")
     assert code == 0, err
-    assert "log variance" in text and "p gradient" in text
+    assert "log variance" in text and "p gradient" in text and "se anchor" in text
+    anchor_sd = json.loads((tmp_path / "f.json").read_text())["fit"]["anchor_sd"]
+    assert np.shape(anchor_sd["log variance"]) == (2, 2)
+    assert np.all(np.asarray(anchor_sd["log variance"]) > 0)
     code, text, err = _run(capsys, "check", tmp_path / "f.json", tmp_path / "map.npy",
                            "--tiles", 2, 2, "--simulations", 5)
     assert code == 0, err
