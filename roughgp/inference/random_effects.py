@@ -86,7 +86,7 @@ class Pooled:
         shrunk, shrunk_sd: each region's :math:`\theta_i^*` and its standard error, the
             root posterior mean squared error with :math:`\tau` integrated out (module
             docstring; the population's value and spread for a region without an estimate).
-        plugin_sd: the standard error that takes :math:`\hat\tau` as known (the formula
+        plugin_sd: the standard error that takes :math:`\\hat\\tau` as known (the formula
             above), for comparison.
         n_regions: the regions with an estimate.
         step, p_step: ``(axis, boundary)`` (``"x"`` or ``"y"``, the position between two

@@ -244,14 +244,13 @@ class FittedModel:
                     + (f", peaks at periods {periods} um" if periods else ", no peak"))
         elif self.equation == "eq18-field":
             rows, cols = len(hp["anchors_y_um"]), len(hp["anchors_x_um"])
-            ranges = ", ".join(f"{label} {np.min(hp[key]):.4g} to {np.max(hp[key]):.4g}{unit}"
-                               for label, key, unit in (("variance", "variance_um2", " um^2"),
-                                                        ("lambda_a", "lambda_a_um", " um"),
-                                                        ("lambda_b", "lambda_b_um", " um"),
-                                                        ("angle", "angle_deg", " deg")))
+            ranges = ", ".join(f"{key.rsplit('_', 1)[0]} {np.min(hp[key]):.4g} to "
+                               f"{np.max(hp[key]):.4g} {unit}" for key, unit in (
+                                   ("variance_um2", "um^2"), ("lambda_a_um", "um"),
+                                   ("lambda_b_um", "um"), ("angle_deg", "deg")))
             text = f"eq 18 with parameter fields on {rows} x {cols} anchors: {ranges}"
-            text += "".join(f"; {name.split('_')[0]} steps at {step['axis']} = "
-                            f"{step['at_um']:.4g} um" for name, step in hp.get("steps", {}).items())
+            text += "".join(f"; {n.rsplit('_', 1)[0]} steps at {s['axis']} = {s['at_um']:.4g}"
+                            f" um" for n, s in hp.get("steps", {}).items())
         elif self.equation == "eq18-population":
             text = (f"eq 18 over a population of {hp['regions']} regions: variance "
                     f"{hp['variance_um2']:.4g} um^2 (x/ {math.exp(hp['log_variance_sd']):.3g} "
