@@ -92,3 +92,34 @@ def test_every_code_line_of_a_notebooks_text_fits_the_book_column(path):
     assert not long, "\n".join(
         f"{path.relative_to(ROOT)}: cell {index}, line {number}: {length} characters, the "
         f"column holds {MAX}" for index, number, length in long)
+
+
+def comment_lines(text: str) -> list[int]:
+    """The numbers of the prose lines of the MyST ``text`` that begin with ``%`` (after
+    spaces): MyST reads such a line as a comment and drops it from the page, so a percentage
+    wrapped to the start of a line vanishes with the rest of its line."""
+    inside = {number for number, _ in code_lines(text)}
+    return [number for number, line in enumerate(text.splitlines(), 1)
+            if number not in inside and re.match(r"\s*%", line)]
+
+
+def test_the_comment_check_finds_a_wrapped_percentage_and_not_one_in_code():
+    page = "Sq lies outside in 12\n  % of the tiles.\n\n```bash\n% a shell prompt\n```\n"
+    assert comment_lines(page) == [2]
+    assert comment_lines("Sq lies outside in 12 % of the tiles.\n") == []
+
+
+@pytest.mark.parametrize("path", PAGES[:-1] + NOTEBOOKS,
+                         ids=lambda path: str(path.relative_to(ROOT)))
+def test_no_line_of_prose_begins_with_a_percent_sign(path):
+    """A page's or a chapter's or a lab's prose loses no line to a MyST comment."""
+    import nbformat
+
+    if path.suffix == ".md":
+        texts = [("", path.read_text(encoding="utf-8"))]
+    else:
+        texts = [(f"cell {index}, ", cell.source) for index, cell in
+                 enumerate(nbformat.read(path, as_version=4).cells)
+                 if cell.cell_type == "markdown"]
+    found = [f"{where}line {number}" for where, text in texts for number in comment_lines(text)]
+    assert not found, f"{path.relative_to(ROOT)}: a line begins with %: " + "; ".join(found)

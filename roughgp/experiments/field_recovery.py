@@ -31,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from roughgp.checking.ranks import share_interval
 from roughgp.checking.tiles import TILE_PARAMETERS, tile_check
 from roughgp.common.jsonl import read_records
 from roughgp.inference.tile_fit import PARAMETERS
@@ -130,9 +131,10 @@ def summary(records) -> dict:
     ``covered_min`` (the least of them), ``covered_plugin_min`` (the least share within the
     plug-in standard errors; NaN for records without it); ``constant``, the share of cases
     whose four fields came back constant (no spread, no trend, no step), ``variance_step``
-    the share whose variance came back as two zones; the tile check's mean outside
-    share per parameter, ``eq18`` and ``field``, and over the four, ``eq18_mean`` and
-    ``field_mean``."""
+    the share whose variance came back as two zones; ``field_sq_interval``, the field model's
+    share of tiles with Sq outside, ``(mean, low, high)`` over the cases (95 %,
+    :func:`~roughgp.checking.ranks.share_interval`); the tile check's mean outside share per
+    parameter, ``eq18`` and ``field``, and over the four, ``eq18_mean`` and ``field_mean``."""
     out = {}
     for kind in KINDS:
         rows = [r for r in records if r["kind"] == kind]
@@ -152,6 +154,9 @@ def summary(records) -> dict:
                      "variance_step": float(np.mean([_kept(r, "step_kept", "log variance")
                                                      for r in rows])),
                      **shares,
+                     "field_sq_interval": share_interval(
+                         [r["tile_outside"]["field"]["Sq"] for r in rows]) if len(rows) > 1
+                     else (math.nan,) * 3,
                      "eq18_mean": float(np.mean(list(shares["eq18"].values()))),
                      "field_mean": float(np.mean(list(shares["field"].values())))}
     return out
