@@ -41,8 +41,9 @@ def fit_field_command(args, heights, operators, data, z):
     print_wrapped("(log scale but for the angle, in radians; p same: the test that all tiles "
                   "share one value; p gradient: that a plane in position does better, kept "
                   "below 0.01, as is a step between two zones at its own test; se anchor: "
-                  "the median standard error of the field at the anchors, with the spread's "
-                  "own uncertainty, each anchor's in the model file's fit.anchor_sd)")
+                  "the median standard error of the field at the anchors, the spread's and "
+                  "the form's own uncertainty included, each anchor's in the model file's "
+                  "fit.anchor_sd)")
     return model
 
 

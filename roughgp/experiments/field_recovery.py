@@ -198,11 +198,11 @@ def recovery_table(records) -> str:
         if not rows:
             continue
         cover = ", ".join(_covered_cell(rows, n) for n in _COMPARED)
-
         variance = ", ".join(f"{np.mean(values):.0%}" for values in (
             [_constant(r, "log variance") for r in rows],
             [_kept(r, "trend_kept", "log variance") for r in rows],
             [_kept(r, "step_kept", "log variance") for r in rows]))
+
         def outside(label):
             return ", ".join(f"{np.mean([r['tile_outside'][label][n] for r in rows]):.0%}"
                              for n in TILE_PARAMETERS)

@@ -16,8 +16,9 @@ variation. The model file holds the shrunk values at the tile centres (the ancho
 noise as the tiles' median (one number: a small tile's noise is often at its bound, where its
 standard error means nothing, and the pooled value followed those tiles), and in ``fit`` the
 pooling's tests and ``anchor_sd``, each field's standard error at the anchors (log scale, the
-angle in radians; :math:`\tau` integrated out, so the truth lies within two of them at about
-95 % of the anchors: :mod:`roughgp.inference.random_effects`).
+angle in radians; :math:`\tau` integrated out and the forms averaged:
+:mod:`roughgp.inference.pooled_errors`; how often they hold the truth on synthetic maps is
+recorded in ``benchmarks/results/field_recovery.md``).
 
 **Draw** (:mod:`roughgp.surface_models.field_draw`). The fields are interpolated bilinearly
 between the anchors (log scale for the variance and the lengths, the angle as its difference

@@ -73,7 +73,7 @@ def extreme_height(model) -> tuple[float, str]:
 
 
 def check_height_bound(model, source="the model") -> None:
-    """Raise :class:`~roughgp.surface_models.schema.ModelFileError` when ``model`` implies
+    """Raise :class:`~roughgp.surface_models.schema_numbers.ModelFileError` when ``model`` implies
     heights beyond :data:`HEIGHT_LIMIT_UM` (module docstring), naming the fields and the limit."""
     height, why = extreme_height(model)
     if not height <= HEIGHT_LIMIT_UM:

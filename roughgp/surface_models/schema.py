@@ -15,7 +15,9 @@ from roughgp.surface_models import psd_core
 from roughgp.surface_models.schema_numbers import (RANGES, ModelFileError, is_number, number,
                                                    numbers_list)
 
-__all__ = ["ModelFileError", "MODEL_FORMAT", "MODEL_VERSIONS", "STAGES", "EQUATIONS", "RANGES",
+# ModelFileError and RANGES are imported from roughgp.surface_models.schema_numbers (and
+# documented there); importing them from here works as before
+__all__ = ["MODEL_FORMAT", "MODEL_VERSIONS", "STAGES", "EQUATIONS",
            "MAX_DEPTH", "MAX_FILE_BYTES", "MAX_MIXTURES", "MAX_SM2D_COMPONENTS",
            "SM2D_BANDWIDTHS", "FORMS", "AXES", "MAX_ANCHORS", "FIELD_NAMES", "FIT_INTEGERS",
            "FEED_DIRECTIONS", "MARK_SAMPLES", "FIT_LIKELIHOODS", "validate_record",
